@@ -1,0 +1,31 @@
+# Thin wrapper over CMake. Every target first installs the Debian packages that are missing.
+JOBS ?= $(shell nproc)
+RELEASE := build/release
+TEST := build/test
+
+.PHONY: setup run test bench fuzz format clean
+
+setup:
+	@bash scripts/setup.sh
+
+release: setup
+	cmake -S . -B $(RELEASE) -DCMAKE_BUILD_TYPE=Release -DSNERT_BUILD_TESTS=OFF
+	cmake --build $(RELEASE) -j $(JOBS)
+
+run: release
+	bash scripts/run.sh $(RELEASE)/snert
+
+test: setup
+	cmake -S . -B $(TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNERT_SANITIZE=address,undefined
+	cmake --build $(TEST) -j $(JOBS)
+	cd $(TEST) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+		ctest --output-on-failure -j $(JOBS)
+
+bench: release
+	$(RELEASE)/snert_bench --benchmark_counters_tabular=true
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.h')
+
+clean:
+	rm -rf build

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages snert needs, only those missing. Idempotent: a second run
+# on a ready machine does nothing but check.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libglfw3-dev libimgui-dev libglm-dev libosmesa6-dev libegl-dev libgl1-mesa-dri libstb-dev
+  python3-glad
+  libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev nlohmann-json3-dev
+  libinsighttoolkit5-dev
+  xvfb xauth x11-apps imagemagick
+  clang libclang-rt-14-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "snert setup: installing ${missing[*]}"
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,34 @@
+// Mesh: an indexed triangle mesh, the output of every method and the input of every metric.
+//
+// Triangles are wound counter-clockwise seen from outside: the normal
+// cross(p1 - p0, p2 - p0) points from the inside of the segmented object to the outside.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace snert {
+
+struct Mesh {
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices; // 3 per triangle
+
+    std::size_t triangle_count() const { return indices.size() / 3; }
+    std::size_t vertex_count() const { return positions.size(); }
+};
+
+struct Volume;
+
+// Applies the volume's index->world mapping to every vertex (index space -> millimetres).
+// Keeps the winding outward even when the mapping mirrors (negative determinant).
+Mesh mesh_to_world(const Mesh& mesh, const Volume& volume);
+
+struct Bounds {
+    glm::vec3 min{0.0f};
+    glm::vec3 max{0.0f};
+};
+Bounds mesh_bounds(const Mesh& mesh);
+
+} // namespace snert

@@ -1,0 +1,85 @@
+// Relaxation of a SurfaceNet (de Bruin et al., sections 2.2-2.4), one Jacobi iteration at a time.
+//
+// Modes:
+//   Averaging (SNA)   move towards the mean of the linked neighbours, a (eq. 1), p += c(a) (eq. 2)
+//   Gradient          move along g = SIGN(Iiso - I(p)) * grad I / |grad I| (eq. 3) by the
+//                     distance d to the iso-surface, p += c(d g) (eq. 4)
+//   Snert             the averaging vector projected on the plane normal to g, a_p = a - g (a.g)
+//                     (eq. 5), plus the gradient step: p += c(a_p + d g) (eq. 6)
+// Each term has a weight. With the "smoothing first" schedule an iteration applies the smoothing
+// term and then the gradient term as two Jacobi sub-steps, ending with the favoured goal.
+// d comes from a linear model of the grey values along g: I is sampled at p and at p + h g.
+// Where |grad I| is about 0 there is no gradient step. The constraint c keeps every node inside
+// its own cell: RayBox shortens the move along its own direction to the cell boundary; Clip
+// clips x, y and z separately (the original SurfaceNet, kept for teaching).
+#pragma once
+
+#include <functional>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "progress.h"
+#include "surface_net.h"
+#include "volume.h"
+
+namespace snert {
+
+enum class RelaxMode { Averaging, Gradient, Snert };
+enum class Schedule { Simultaneous, SmoothingFirst };
+enum class Constraint { RayBox, Clip };
+enum class GradientMethod { Central, Gaussian };
+
+struct RelaxOptions {
+    RelaxMode mode = RelaxMode::Snert;
+    float smoothing_weight = 1.0f;      // weight of the averaging term (eq. 1 / eq. 5)
+    float gradient_weight = 1.0f;       // weight of the gradient term d g (eq. 4 / eq. 6)
+    Schedule schedule = Schedule::Simultaneous;
+    bool favour_accuracy = true;        // SmoothingFirst: end each iteration with the gradient term
+    Constraint constraint = Constraint::RayBox;
+    GradientMethod gradient = GradientMethod::Central;
+    float gradient_sigma = 1.0f;        // voxels, for GradientMethod::Gaussian
+    float iso = 0.0f;                   // Iiso of eq. 3
+    int max_iterations = 20;            // stop after this many iterations
+    float epsilon = 1e-4f;              // ... or when the largest move (voxels) falls under this
+};
+
+// What the gradient term needs: the grey volume, and the gradient field when precomputed.
+// Build it once per volume and options with make_grey_field.
+struct GreyField {
+    const Volume* volume = nullptr;
+    GradientField gradient;             // empty: central differences on the fly
+    float iso = 0.0f;
+};
+GreyField make_grey_field(const Volume& volume, const RelaxOptions& options);
+
+// Returns the point of the cell [cell, cell + 1] reached from p along move, shortened by the
+// constraint so that it stays inside the cell.
+glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constraint constraint);
+
+// One Jacobi iteration: computes every node's new position from `old_positions` into
+// `new_positions` (same size) and returns the largest move length (voxels).
+float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                 std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions);
+
+struct RelaxIteration {
+    int iteration = 0;   // 1 for the first iteration
+    float max_move = 0;  // largest node move in this iteration (voxels)
+};
+
+// Called after every iteration with the new positions; return false to stop early.
+using IterationCallback =
+    std::function<bool(const RelaxIteration&, std::span<const glm::vec3> positions)>;
+
+struct RelaxResult {
+    std::vector<glm::vec3> positions;
+    std::vector<float> max_moves;        // per iteration
+    bool converged = false;              // stopped because max move < epsilon
+};
+
+// Runs iterations until max_iterations or convergence. `grey` may be null for Averaging.
+RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                  const IterationCallback& on_iteration = {}, const Progress& progress = {});
+
+} // namespace snert

@@ -1,0 +1,191 @@
+// Volume sampling and gradients.
+#include "volume.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace snert {
+
+Volume make_volume(glm::ivec3 dims, float value) {
+    if (dims.x < 1 || dims.y < 1 || dims.z < 1)
+        throw std::invalid_argument("volume dimensions must be at least 1");
+    const std::size_t limit = std::numeric_limits<std::size_t>::max() / sizeof(float);
+    std::size_t count = std::size_t(dims.x);
+    for (int axis = 1; axis < 3; ++axis) {
+        if (count > limit / std::size_t(dims[axis]))
+            throw std::invalid_argument("volume dimensions overflow the sample count");
+        count *= std::size_t(dims[axis]);
+    }
+    Volume volume;
+    volume.dims = dims;
+    volume.samples.assign(count, value);
+    return volume;
+}
+
+glm::mat3 index_to_world_linear(const Volume& volume) {
+    glm::mat3 m = volume.direction;
+    for (int axis = 0; axis < 3; ++axis) m[axis] *= volume.spacing[axis];
+    return m;
+}
+
+glm::vec3 index_to_world(const Volume& volume, glm::vec3 index_point) {
+    return volume.origin + index_to_world_linear(volume) * index_point;
+}
+
+glm::vec3 world_to_index(const Volume& volume, glm::vec3 world_point) {
+    return glm::inverse(index_to_world_linear(volume)) * (world_point - volume.origin);
+}
+
+namespace {
+
+// Lower corner and fractions of the cell holding p, clamped to the grid.
+struct Cell {
+    glm::ivec3 base;
+    glm::vec3 t;
+};
+
+Cell locate(glm::ivec3 dims, glm::vec3 p) {
+    Cell cell;
+    for (int a = 0; a < 3; ++a) {
+        const float hi = float(dims[a] - 1);
+        const float q = std::clamp(std::isfinite(p[a]) ? p[a] : 0.0f, 0.0f, hi);
+        int b = std::min(int(q), std::max(dims[a] - 2, 0));
+        cell.base[a] = b;
+        cell.t[a] = dims[a] > 1 ? q - float(b) : 0.0f;
+    }
+    return cell;
+}
+
+template <class T, class Fetch> T trilinear(glm::ivec3 dims, glm::vec3 p, Fetch fetch) {
+    const Cell c = locate(dims, p);
+    const int x1 = std::min(c.base.x + 1, dims.x - 1);
+    const int y1 = std::min(c.base.y + 1, dims.y - 1);
+    const int z1 = std::min(c.base.z + 1, dims.z - 1);
+    const int x0 = c.base.x, y0 = c.base.y, z0 = c.base.z;
+    const T c00 = glm::mix(fetch(x0, y0, z0), fetch(x1, y0, z0), c.t.x);
+    const T c10 = glm::mix(fetch(x0, y1, z0), fetch(x1, y1, z0), c.t.x);
+    const T c01 = glm::mix(fetch(x0, y0, z1), fetch(x1, y0, z1), c.t.x);
+    const T c11 = glm::mix(fetch(x0, y1, z1), fetch(x1, y1, z1), c.t.x);
+    return glm::mix(glm::mix(c00, c10, c.t.y), glm::mix(c01, c11, c.t.y), c.t.z);
+}
+
+// Central difference at a sample, one-sided where a neighbour is missing.
+glm::vec3 central_difference(const Volume& v, int x, int y, int z) {
+    glm::vec3 g(0.0f);
+    const glm::ivec3 p(x, y, z);
+    for (int a = 0; a < 3; ++a) {
+        glm::ivec3 lo = p, hi = p;
+        lo[a] = std::max(p[a] - 1, 0);
+        hi[a] = std::min(p[a] + 1, v.dims[a] - 1);
+        const int span = hi[a] - lo[a];
+        if (span > 0) g[a] = (v.at(hi.x, hi.y, hi.z) - v.at(lo.x, lo.y, lo.z)) / float(span);
+    }
+    return g;
+}
+
+} // namespace
+
+float sample_trilinear(const Volume& volume, glm::vec3 p) {
+    return trilinear<float>(volume.dims, p,
+                            [&](int x, int y, int z) { return volume.at(x, y, z); });
+}
+
+glm::vec3 gradient_central(const Volume& volume, glm::vec3 p) {
+    return trilinear<glm::vec3>(volume.dims, p, [&](int x, int y, int z) {
+        return central_difference(volume, x, y, z);
+    });
+}
+
+glm::vec3 sample_trilinear(const GradientField& field, glm::vec3 p) {
+    return trilinear<glm::vec3>(field.dims, p, [&](int x, int y, int z) {
+        return field.values[(std::size_t(z) * field.dims.y + y) * field.dims.x + x];
+    });
+}
+
+GradientField gradient_field_central(const Volume& volume) {
+    GradientField field{volume.dims, std::vector<glm::vec3>(volume.voxel_count())};
+    for (int z = 0; z < volume.dims.z; ++z)
+        for (int y = 0; y < volume.dims.y; ++y)
+            for (int x = 0; x < volume.dims.x; ++x)
+                field.values[volume.index(x, y, z)] = central_difference(volume, x, y, z);
+    return field;
+}
+
+namespace {
+
+// Convolves `in` along one axis with `kernel` (centred, radius = size / 2), clamping at the border.
+void convolve_axis(const std::vector<float>& in, std::vector<float>& out, glm::ivec3 dims, int axis,
+                   const std::vector<float>& kernel) {
+    const int radius = int(kernel.size() / 2);
+    const std::size_t stride = axis == 0 ? 1 : axis == 1 ? std::size_t(dims.x)
+                                                         : std::size_t(dims.x) * dims.y;
+    const int n = dims[axis];
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                const glm::ivec3 p(x, y, z);
+                const std::size_t here = (std::size_t(z) * dims.y + y) * dims.x + x;
+                const std::size_t line = here - std::size_t(p[axis]) * stride;
+                float sum = 0.0f;
+                for (int k = -radius; k <= radius; ++k) {
+                    const int q = std::clamp(p[axis] + k, 0, n - 1);
+                    sum += kernel[std::size_t(k + radius)] * in[line + std::size_t(q) * stride];
+                }
+                out[here] = sum;
+            }
+}
+
+} // namespace
+
+GradientField gradient_field_gaussian(const Volume& volume, float sigma) {
+    if (!(sigma > 0.0f)) return gradient_field_central(volume);
+    const int radius = std::max(1, int(std::ceil(3.0f * sigma)));
+    std::vector<float> smooth(std::size_t(2 * radius + 1)), derivative(smooth.size());
+    float sum = 0.0f, moment = 0.0f;
+    for (int k = -radius; k <= radius; ++k) {
+        const float w = std::exp(-0.5f * float(k * k) / (sigma * sigma));
+        smooth[std::size_t(k + radius)] = w;
+        sum += w;
+    }
+    for (auto& w : smooth) w /= sum;
+    // Derivative kernel k * G(k) / sum(k^2 G(k)): returns slope 1 on a unit ramp, since
+    // convolve_axis sums kernel[k] * f(x + k) without flipping.
+    for (int k = -radius; k <= radius; ++k) {
+        derivative[std::size_t(k + radius)] = float(k) * smooth[std::size_t(k + radius)];
+        moment += float(k * k) * smooth[std::size_t(k + radius)];
+    }
+    for (auto& w : derivative) w /= moment;
+
+    GradientField field{volume.dims, std::vector<glm::vec3>(volume.voxel_count())};
+    std::vector<float> a(volume.voxel_count()), b(volume.voxel_count());
+    for (int axis = 0; axis < 3; ++axis) {
+        const std::vector<float>* src = &volume.samples;
+        std::vector<float>* bufs[2] = {&a, &b};
+        int which = 0;
+        for (int pass = 0; pass < 3; ++pass) {
+            convolve_axis(*src, *bufs[which], volume.dims, pass,
+                          pass == axis ? derivative : smooth);
+            src = bufs[which];
+            which ^= 1;
+        }
+        for (std::size_t i = 0; i < field.values.size(); ++i) field.values[i][axis] = (*src)[i];
+    }
+    return field;
+}
+
+ValueRange value_range(const Volume& volume) {
+    ValueRange range{std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
+    bool any = false;
+    for (float v : volume.samples) {
+        if (!std::isfinite(v)) continue;
+        range.min = std::min(range.min, v);
+        range.max = std::max(range.max, v);
+        any = true;
+    }
+    return any ? range : ValueRange{};
+}
+
+} // namespace snert

@@ -1,0 +1,74 @@
+// Volume: a regular 3D grid of float32 samples, the input of every mesher.
+//
+// Samples are stored x fastest, then y, then z. Geometry has two frames:
+//  - index space: voxel (i, j, k) sits at the point (i, j, k); the meshers, the surface net and
+//    the relaxation all work here, so a "cell" is the unit cube between 8 voxel centres;
+//  - world space (millimetres): origin + direction * (spacing * index), the frame of exported
+//    meshes and of every metric that has a physical unit.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace snert {
+
+struct Volume {
+    glm::ivec3 dims{0};              // samples along x, y, z
+    glm::vec3 spacing{1.0f};         // world distance between neighbouring samples, per axis
+    glm::vec3 origin{0.0f};          // world position of sample (0, 0, 0)
+    glm::mat3 direction{1.0f};       // columns: world direction of the x, y, z index axes
+    std::vector<float> samples;      // dims.x * dims.y * dims.z values, x fastest
+
+    std::size_t voxel_count() const {
+        return std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
+    }
+    std::size_t index(int x, int y, int z) const {
+        return (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x) +
+               std::size_t(x);
+    }
+    float at(int x, int y, int z) const { return samples[index(x, y, z)]; }
+    bool empty() const { return samples.empty(); }
+};
+
+// Allocates a volume of the given size filled with `value`. Throws std::invalid_argument when a
+// dimension is below 1 or the sample count overflows.
+Volume make_volume(glm::ivec3 dims, float value = 0.0f);
+
+// Index space -> world space (millimetres) and back.
+glm::vec3 index_to_world(const Volume& volume, glm::vec3 index_point);
+glm::vec3 world_to_index(const Volume& volume, glm::vec3 world_point);
+// Linear part of index_to_world (direction * diag(spacing)): maps index-space vectors to world.
+glm::mat3 index_to_world_linear(const Volume& volume);
+
+// Trilinear interpolation at an index-space point. Points outside the grid are clamped to it,
+// so the value at the border continues outwards (no artificial edge).
+float sample_trilinear(const Volume& volume, glm::vec3 p);
+
+// Gradient of the grey values (per index unit) at an index-space point: central differences at
+// the 8 surrounding samples (one-sided at the border), trilinearly interpolated.
+glm::vec3 gradient_central(const Volume& volume, glm::vec3 p);
+
+// Gradient field of Gaussian-derivative filters with standard deviation `sigma` (in voxels),
+// one vec3 per sample, same layout as Volume::samples. Separable, truncated at 3 sigma, the
+// border extended by clamping. sigma <= 0 falls back to central differences per sample.
+struct GradientField {
+    glm::ivec3 dims{0};
+    std::vector<glm::vec3> values;
+};
+GradientField gradient_field_gaussian(const Volume& volume, float sigma);
+GradientField gradient_field_central(const Volume& volume);
+
+// Trilinear interpolation of a precomputed gradient field at an index-space point.
+glm::vec3 sample_trilinear(const GradientField& field, glm::vec3 p);
+
+// Smallest and largest finite sample; {0, 0} for an empty volume.
+struct ValueRange {
+    float min = 0.0f;
+    float max = 0.0f;
+};
+ValueRange value_range(const Volume& volume);
+
+} // namespace snert
