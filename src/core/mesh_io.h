@@ -1,6 +1,17 @@
 // Mesh export: binary STL, Wavefront OBJ, binary PLY, OFF and legacy VTK polydata.
 // Files are written to a temporary file beside the target and renamed into place, so a failed
 // or interrupted write never leaves a half-written file.
+//
+// What is written, per format (all in the mesh's own units, triangles as wound in the Mesh):
+//   .stl  binary, little-endian: 80-byte header (never starting with "solid"), uint32 count,
+//         per triangle a float unit normal (zero for a degenerate one), 3 float corners and a
+//         zero uint16 attribute;
+//   .obj  "v x y z" lines, then "f a b c" with 1-based indices;
+//   .ply  binary_little_endian 1.0: vertex float x, y, z; face list uchar int vertex_indices;
+//   .off  "OFF", "V F 0", vertex lines, then "3 a b c" (0-based);
+//   .vtk  legacy 3.0 ASCII POLYDATA: POINTS (float) and POLYGONS with inline counts.
+// Text numbers are the shortest decimal that reads back to the same float (std::to_chars), so
+// every format but STL (which has no shared vertices) round-trips the Mesh exactly.
 #pragma once
 
 #include <string>
@@ -15,11 +26,19 @@ enum class MeshFormat { Stl, Obj, Ply, Off, Vtk };
 // file when the extension is not one of .stl .obj .ply .off .vtk.
 MeshFormat mesh_format_from_path(const std::string& path);
 
-// Throws std::runtime_error naming the file and the reason on failure.
+// Throws std::runtime_error naming the file and the reason on failure, std::invalid_argument
+// for an unknown extension or an index out of range.
 void write_mesh(const Mesh& mesh, const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format);
 
-// Reads what write_mesh wrote (for round-trip tests and for comparing meshes).
+// Reads what write_mesh wrote (for round-trip tests and for comparing meshes), and the usual
+// variants from other tools: ASCII STL; OBJ with texture/normal references, negative indices
+// and polygons; ASCII and big-endian PLY with any properties; OFF with comments and colours;
+// VTK 5.1 (OFFSETS/CONNECTIVITY) and triangle strips. Polygons are split into fans. STL corners
+// with identical positions are merged, so the result is an indexed mesh. Every count in a file
+// is checked against the file's size before memory is reserved. Throws std::runtime_error
+// "PATH: [line N: ]reason" for a missing, truncated or malformed file, and
+// std::invalid_argument for an unknown extension.
 Mesh read_mesh(const std::string& path);
 
 } // namespace snert

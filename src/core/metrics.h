@@ -8,6 +8,12 @@
 // angles of the incident triangles| (radians; best case 0, a plane).
 // Accuracy (paper eq. 7): mean distance of the vertices, and of the face centres, to a reference
 // surface, given as a distance function.
+//
+// Every function here is a pure analyser of a Mesh: it returns a plain struct and changes
+// nothing. Large meshes (millions of triangles) are processed on all hardware threads, in chunks
+// whose boundaries do not depend on the thread count, so results are the same on every machine.
+// All functions throw std::invalid_argument when an index is out of range or the index count is
+// not a multiple of 3.
 #pragma once
 
 #include <array>
@@ -24,46 +30,70 @@
 
 namespace snert {
 
+// A triangle is degenerate when its height over its longest edge is below this fraction of
+// that edge (2 * area <= kDegenerateHeightRatio * longest^2): exactly flat triangles, triangles
+// with coincident corners, and slivers flatter than float coordinates can resolve. A
+// non-finite corner also makes a triangle degenerate.
+inline constexpr double kDegenerateHeightRatio = 1e-6;
+
 struct TriangleShape {
-    float quality = 0;       // smallest / largest angle (best 1)
-    float quality60 = 0;     // smallest angle / 60 degrees (best 1)
-    float radius_ratio = 0;  // 2 r / R (best 1)
-    float min_angle = 0;     // degrees
-    float area = 0;
+    float quality = 0;       // smallest / largest angle (best 1, 0 when degenerate)
+    float quality60 = 0;     // smallest angle / 60 degrees (best 1, 0 when degenerate)
+    float radius_ratio = 0;  // 2 r / R (best 1, 0 when degenerate)
+    float min_angle = 0;     // degrees (best 60, 0 when degenerate)
+    float area = 0;          // the true area, also when degenerate (0 when not finite)
+    bool degenerate = false; // see kDegenerateHeightRatio
 };
+// Angles are computed in double as atan2(|cross|, dot), exact also for needle triangles.
 TriangleShape triangle_shape(glm::vec3 a, glm::vec3 b, glm::vec3 c);
 
-// Per-triangle smallest/largest angle, the quantity the views colour by.
+// Per-triangle smallest/largest angle, the quantity the views colour by (0 for degenerate).
 std::vector<float> triangle_quality(const Mesh& mesh);
 
 inline constexpr int kQualityBins = 20;
 
+// Statistics over all triangles; degenerate ones take part with quality 0 (they are the worst
+// triangles, not missing ones). All zero for a mesh without triangles.
 struct QualityStats {
-    double mean = 0, min = 0;                 // smallest / largest angle
-    double quality60_mean = 0;
-    double radius_ratio_mean = 0;
-    double min_angle_min = 0;                 // degrees
-    std::size_t degenerate = 0;               // zero-area triangles
-    std::array<std::size_t, kQualityBins> histogram{};  // counts over [0, 1], last bin closed
+    double mean = 0, min = 0;     // smallest / largest angle (best 1)
+    double quality60_mean = 0;    // best 1
+    double radius_ratio_mean = 0; // best 1
+    double min_angle_min = 0;     // degrees (best 60)
+    std::size_t degenerate = 0;   // triangles with (near) zero area, see above
+    // Counts of quality over [0, 1]: bin i holds [i / kQualityBins, (i + 1) / kQualityBins), the
+    // last bin also holds q = 1.
+    std::array<std::size_t, kQualityBins> histogram{};
 };
 QualityStats quality_stats(const Mesh& mesh);
 
 // Mean |2 pi - angle sum| over interior manifold vertices (those whose incident triangles form
-// one closed fan). Radians.
+// one closed fan, every edge at the vertex shared by exactly two triangles, no triangle using
+// the vertex twice). Boundary and non-manifold vertices are left out. Radians (best 0, a plane);
+// 0 when there is no interior vertex. Orientation does not matter.
 double smoothness(const Mesh& mesh);
 
+// Combinatorial checks, from sorted per-vertex triangle lists (linear time, no map per edge).
+// An edge is an unordered pair of distinct vertices used by consecutive corners of a triangle.
+// A "collapsed" triangle repeats a vertex index; its self-loop is not an edge. For an empty mesh
+// every flag is false.
 struct Topology {
-    bool watertight = false;  // every edge has exactly two incident triangles
-    bool manifold = false;    // ... and every vertex's triangles form a single fan
-    bool oriented = false;    // every interior edge is used once in each direction
-    long euler = 0;           // V - E + F over referenced vertices
-    std::size_t boundary_edges = 0;
-    std::size_t nonmanifold_edges = 0;
+    bool watertight = false; // every edge has exactly two incident triangles, none collapsed
+    bool manifold = false;   // ... and every vertex's triangles form a single fan (a closed
+                             // 2-manifold; a mesh with boundary is never `manifold`)
+    bool oriented = false;   // no edge is used twice in the same direction (so every interior
+                             // edge is used once in each direction)
+    long euler = 0;          // V - E + F over referenced vertices (2 for a sphere)
+    std::size_t boundary_edges = 0;    // edges of one triangle
+    std::size_t nonmanifold_edges = 0; // edges of three or more triangles
+    std::size_t collapsed_triangles = 0;
 };
 Topology topology(const Mesh& mesh);
 
+// Sum of the triangle areas (accumulated in double).
 double surface_area(const Mesh& mesh);
-// Signed enclosed volume (divergence theorem); positive for a closed outward-wound mesh.
+// Signed enclosed volume (divergence theorem); positive for a closed outward-wound mesh. The
+// sum is taken relative to the centre of the bounding box for precision, which changes nothing
+// for a closed mesh (an open mesh has no well-defined volume).
 double enclosed_volume(const Mesh& mesh);
 
 using DistanceFunction = std::function<float(glm::vec3)>;
@@ -72,13 +102,23 @@ struct Accuracy {
     double vertices_mean = 0, vertices_max = 0;
     double faces_mean = 0, faces_max = 0;
 };
+// Mean and max of |distance(p)| over every vertex (mesh.positions) and over every triangle's
+// centroid; a signed distance works too. `distance` is called from several threads at once, so
+// it must be thread-safe (pure functions, MeshDistance and volume sampling are). All zero for an
+// empty mesh.
 Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance);
 
-// Distance from points to a triangle mesh, accelerated by a uniform grid of triangles (never all
-// pairs). Build once, query many times; thread-safe queries.
+// Exact Euclidean distance from points to a triangle mesh, accelerated by a uniform grid in which
+// each triangle is listed in every cell its bounding box overlaps (cell size about the mean edge
+// length, at most a few million cells). A query visits cubic shells of cells around the point's
+// cell, skipping shells known to be empty from a chessboard distance transform of the occupied
+// cells, and stops once no unvisited cell can hold anything nearer: never all pairs.
+// Build once, query many times; queries are const and thread-safe; copies share the grid.
 class MeshDistance {
 public:
+    // Throws std::invalid_argument when `reference` has no triangles or a bad index.
     explicit MeshDistance(const Mesh& reference);
+    // Distance to the nearest point of any triangle; NaN for a non-finite point.
     float operator()(glm::vec3 p) const;
 
 private:

@@ -25,9 +25,9 @@
 namespace snert {
 
 struct PipelineOptions {
-    float iso = 0.0f;
+    float iso = 0.0f;                   // Marching Cubes' iso (0.5 on a label mask)
     InsideIs inside = InsideIs::Above;
-    RelaxOptions relax;                 // relax.iso is set from iso by the pipeline
+    RelaxOptions relax;                 // relax.iso: the grey iso of the gradient term (eq. 3)
     TriangulationRule triangulation = TriangulationRule::ShorterDiagonal;
 };
 

@@ -1,0 +1,61 @@
+// A minimal parallel loop over an index range, for Jacobi steps, per-slab passes and metrics.
+//
+// The range is cut into chunks of a fixed size, independent of the thread count, and the
+// chunks are handed to up to one thread per core. Per-chunk partial results combined in chunk
+// order are therefore identical on every machine. A range of one chunk runs on the calling
+// thread, where starting threads would cost more than the work.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace snert {
+
+// Number of chunks for_each_chunk uses for n items.
+inline std::size_t chunk_count(std::size_t n, std::size_t chunk_size) {
+    return (n + chunk_size - 1) / chunk_size;
+}
+
+// Calls body(chunk, begin, end) for the chunks of [0, n) of `chunk_size` items, possibly
+// concurrently. The first exception thrown by a chunk (a cancellation, say) stops the handing
+// out of further chunks and is rethrown after every thread has joined.
+template <class Body> void for_each_chunk(std::size_t n, std::size_t chunk_size, const Body& body) {
+    const std::size_t chunks = chunk_count(n, chunk_size);
+    const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t threads = std::min(chunks, cores);
+    auto run_chunk = [&](std::size_t c) {
+        body(c, c * chunk_size, std::min(n, (c + 1) * chunk_size));
+    };
+    if (threads <= 1) {
+        for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+        return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto worker = [&] {
+        for (std::size_t c = next++; c < chunks; c = next++) {
+            try {
+                run_chunk(c);
+            } catch (...) {
+                std::lock_guard lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+                next = chunks;
+            }
+        }
+    };
+    {
+        std::vector<std::jthread> pool;
+        pool.reserve(threads - 1);
+        for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+        worker();
+    } // joins
+    if (failure) std::rethrow_exception(failure);
+}
+
+} // namespace snert

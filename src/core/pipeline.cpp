@@ -1,0 +1,81 @@
+// The comparison pipeline shared by the CLI, the renderer and the app.
+#include "pipeline.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace snert {
+
+namespace {
+
+double elapsed_ms(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
+        .count();
+}
+
+} // namespace
+
+const char* method_name(RelaxMode mode) {
+    switch (mode) {
+    case RelaxMode::Averaging: return "sna";
+    case RelaxMode::Gradient: return "gradient";
+    case RelaxMode::Snert: return "snert";
+    }
+    return "snert";
+}
+
+DistanceFunction first_order_distance(const Volume& volume, float iso) {
+    // |I(p) - iso| / |grad I(p)|: the distance to the iso-surface if the field were linear.
+    return [&volume, iso](glm::vec3 p) {
+        const float difference = std::abs(sample_trilinear(volume, p) - iso);
+        const float slope = glm::length(gradient_central(volume, p));
+        return slope > 1e-12f ? difference / slope : 0.0f;
+    };
+}
+
+MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
+                      const DistanceFunction& reference) {
+    MethodMetrics m;
+    const Mesh world = mesh_to_world(index_mesh, volume);
+    m.vertices = world.vertex_count();
+    m.triangles = world.triangle_count();
+    m.quality = quality_stats(world);
+    m.smoothness = smoothness(world);
+    m.topology = topology(world);
+    m.area = surface_area(world);
+    m.volume = enclosed_volume(world);
+    if (reference) m.accuracy = accuracy(index_mesh, reference);
+    return m;
+}
+
+MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
+                                const DistanceFunction& reference, const Progress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    Mesh mesh = marching_cubes(volume, {options.iso, options.inside}, progress);
+    const double ms = elapsed_ms(start);
+    MethodResult result;
+    result.name = "mc";
+    result.metrics = measure(mesh, volume, reference);
+    result.metrics.ms = ms;
+    result.mesh = mesh_to_world(mesh, volume);
+    return result;
+}
+
+MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
+                             const PipelineOptions& options, const DistanceFunction& reference,
+                             const Progress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    SurfaceNet net = build_surface_net(segmentation, progress);
+    const GreyField field = make_grey_field(grey, options.relax);
+    const RelaxResult relaxed = relax(net, &field, options.relax, {}, progress);
+    Mesh mesh = triangulate(net, relaxed.positions, options.triangulation);
+    const double ms = elapsed_ms(start);
+    MethodResult result;
+    result.name = method_name(options.relax.mode);
+    result.metrics = measure(mesh, grey, reference);
+    result.metrics.ms = ms;
+    result.mesh = mesh_to_world(mesh, grey);
+    return result;
+}
+
+} // namespace snert

@@ -1,0 +1,173 @@
+// Relaxation of SurfaceNet nodes: averaging, gradient and the combined SNERT step.
+//
+// This work is based on:
+//   P. W. de Bruin, F. M. Vos, F. H. Post, S. F. Frisken-Gibson, A. M. Vossepoel,
+//   "Improving triangle mesh quality with SurfaceNets", MICCAI 2000, equations 1-6;
+//   S. F. F. Gibson, "Constrained elastic SurfaceNets", MICCAI 1998 (clipping constraint).
+//
+// Every iteration is a Jacobi update: moves are computed from the old positions only, so the
+// result does not depend on node order and a step can run in parallel over nodes.
+#include "relaxation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "parallel.h"
+
+namespace snert {
+
+namespace {
+
+// Below this gradient length (grey units per voxel, relative to the value range) the gradient
+// direction is noise: no gradient step.
+constexpr float kMinGradient = 1e-6f;
+// How far the node may be moved by d in one step; the cell constraint bounds it further.
+constexpr float kMaxDistance = 1.0f;
+
+// Averaging vector a: from p to the mean of the linked neighbours (eq. 1).
+glm::vec3 averaging_vector(const SurfaceNet& net, std::span<const glm::vec3> positions,
+                           std::uint32_t node) {
+    const std::uint32_t first = net.link_offsets[node], last = net.link_offsets[node + 1];
+    if (first == last) return glm::vec3(0.0f);
+    glm::vec3 sum(0.0f);
+    for (std::uint32_t k = first; k < last; ++k) sum += positions[net.links[k]];
+    return sum / float(last - first) - positions[node];
+}
+
+struct GradientStep {
+    glm::vec3 g{0.0f}; // unit direction towards the iso-surface, or 0 (eq. 3)
+    float d = 0.0f;    // distance to the iso-surface along g (eq. 4)
+};
+
+glm::vec3 grey_gradient(const GreyField& grey, glm::vec3 p) {
+    return grey.gradient.values.empty() ? gradient_central(*grey.volume, p)
+                                        : sample_trilinear(grey.gradient, p);
+}
+
+// g = SIGN(Iiso - I(p)) grad I / |grad I| (eq. 3), and d from a linear model of I along g:
+// I is sampled at p and at p + h g, with h the first-order distance estimate, so the second
+// sample lands near the surface and the two samples bracket or nearly bracket it.
+GradientStep gradient_step(const GreyField& grey, glm::vec3 p) {
+    GradientStep step;
+    const float value = sample_trilinear(*grey.volume, p);
+    const glm::vec3 gradient = grey_gradient(grey, p);
+    const float length = glm::length(gradient);
+    if (!(length > kMinGradient) || !std::isfinite(value)) return step;
+    const float difference = grey.iso - value;
+    // On the iso-surface d is 0 but g still defines the plane of eq. 5's projection.
+    step.g = (difference >= 0.0f ? 1.0f : -1.0f) * gradient / length;
+    if (difference == 0.0f) return step;
+    const float first_order = std::abs(difference) / length;
+    const float h = std::clamp(first_order, 0.05f, kMaxDistance);
+    const float ahead = sample_trilinear(*grey.volume, p + h * step.g);
+    // Slope of I along g, signed so that it is positive when I approaches iso along g.
+    const float slope = (ahead - value) / h * (difference > 0.0f ? 1.0f : -1.0f);
+    step.d = slope > kMinGradient ? std::abs(difference) / slope : first_order;
+    step.d = std::min(step.d, kMaxDistance);
+    return step;
+}
+
+// The move of one node for one sub-step; `smoothing` and `gradient` select the terms.
+glm::vec3 node_move(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                    std::span<const glm::vec3> positions, std::uint32_t node, bool smoothing,
+                    bool gradient) {
+    const glm::vec3 p = positions[node];
+    glm::vec3 move(0.0f);
+    const bool use_grey = gradient && grey != nullptr && options.mode != RelaxMode::Averaging;
+    const GradientStep step = use_grey ? gradient_step(*grey, p) : GradientStep{};
+    if (smoothing && options.mode != RelaxMode::Gradient) {
+        glm::vec3 a = averaging_vector(net, positions, node);
+        // eq. 5: in SNERT's simultaneous step the averaging acts only within the iso-surface.
+        if (options.mode == RelaxMode::Snert && use_grey) a -= step.g * glm::dot(a, step.g);
+        move += options.smoothing_weight * a;
+    }
+    if (use_grey) move += options.gradient_weight * step.d * step.g; // eq. 4 / eq. 6
+    return move;
+}
+
+float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                  std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions,
+                  bool smoothing, bool gradient) {
+    // Jacobi: every node reads only old positions, so chunks of nodes run independently.
+    constexpr std::size_t kChunk = 4096;
+    std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
+    for_each_chunk(old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin,
+                                                     std::size_t end) {
+        float local = 0.0f;
+        for (std::size_t i = begin; i < end; ++i) {
+            const glm::vec3 move = node_move(net, grey, options, old_positions,
+                                             std::uint32_t(i), smoothing, gradient);
+            new_positions[i] =
+                constrain_move(old_positions[i], move, net.cells[i], options.constraint);
+            local = std::max(local, glm::length(new_positions[i] - old_positions[i]));
+        }
+        chunk_max[chunk] = local;
+    });
+    if (chunk_max.empty()) return 0.0f;
+    return *std::max_element(chunk_max.begin(), chunk_max.end());
+}
+
+} // namespace
+
+GreyField make_grey_field(const Volume& volume, const RelaxOptions& options) {
+    GreyField grey;
+    grey.volume = &volume;
+    grey.iso = options.iso;
+    if (options.gradient == GradientMethod::Gaussian)
+        grey.gradient = gradient_field_gaussian(volume, options.gradient_sigma);
+    return grey;
+}
+
+glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constraint constraint) {
+    const glm::vec3 lo(cell), hi = lo + 1.0f;
+    if (!std::isfinite(move.x) || !std::isfinite(move.y) || !std::isfinite(move.z)) return p;
+    if (constraint == Constraint::Clip) return glm::clamp(p + move, lo, hi);
+    // Ray-box (eq. 2's c): the largest t in [0, 1] with p + t move inside the cell, so the node
+    // keeps its direction of motion and stops on the cell boundary.
+    float t = 1.0f;
+    for (int a = 0; a < 3; ++a) {
+        if (move[a] > 0.0f) t = std::min(t, (hi[a] - p[a]) / move[a]);
+        else if (move[a] < 0.0f) t = std::min(t, (lo[a] - p[a]) / move[a]);
+    }
+    t = std::max(t, 0.0f);
+    // Rounding can put the end point a hair outside; clamping only removes that hair.
+    return glm::clamp(p + t * move, lo, hi);
+}
+
+float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                 std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions) {
+    const bool two_terms = options.mode == RelaxMode::Snert && grey != nullptr;
+    if (options.schedule == Schedule::Simultaneous || !two_terms)
+        return jacobi_pass(net, grey, options, old_positions, new_positions, true, true);
+    // "Smoothing first, ending with the favoured goal": two Jacobi sub-steps, each with one term.
+    std::vector<glm::vec3> middle(old_positions.size());
+    const bool first_smooth = options.favour_accuracy;
+    jacobi_pass(net, grey, options, old_positions, middle, first_smooth, !first_smooth);
+    jacobi_pass(net, grey, options, middle, new_positions, !first_smooth, first_smooth);
+    float max_move = 0.0f;
+    for (std::size_t i = 0; i < old_positions.size(); ++i)
+        max_move = std::max(max_move, glm::length(new_positions[i] - old_positions[i]));
+    return max_move;
+}
+
+RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                  const IterationCallback& on_iteration, const Progress& progress) {
+    RelaxResult result;
+    result.positions = net.positions;
+    std::vector<glm::vec3> next(result.positions.size());
+    for (int it = 1; it <= options.max_iterations; ++it) {
+        progress.update(float(it - 1) / float(options.max_iterations));
+        const float max_move = relax_step(net, grey, options, result.positions, next);
+        result.positions.swap(next);
+        result.max_moves.push_back(max_move);
+        if (on_iteration && !on_iteration({it, max_move}, result.positions)) break;
+        if (max_move < options.epsilon) {
+            result.converged = true;
+            break;
+        }
+    }
+    progress.update(1.0f);
+    return result;
+}
+
+} // namespace snert

@@ -1,0 +1,49 @@
+// Splitting the net's quads into triangles (de Bruin et al., section 2.5).
+#include "triangulation.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace snert {
+
+namespace {
+
+float angle_at(glm::vec3 apex, glm::vec3 a, glm::vec3 b) {
+    const glm::vec3 u = a - apex, v = b - apex;
+    const float lu = glm::length(u), lv = glm::length(v);
+    if (!(lu > 0.0f) || !(lv > 0.0f)) return 0.0f;
+    return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0f, 1.0f));
+}
+
+// True when the quad a b c d should be split along a-c.
+bool split_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, TriangulationRule rule) {
+    if (rule == TriangulationRule::ShorterDiagonal)
+        return glm::dot(a - c, a - c) <= glm::dot(b - d, b - d);
+    // Delaunay: a-c is the locally Delaunay edge when the angles opposite it sum to at most pi.
+    return angle_at(b, a, c) + angle_at(d, c, a) <= 3.14159265358979f;
+}
+
+} // namespace
+
+Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
+                 TriangulationRule rule) {
+    Mesh mesh;
+    mesh.positions.assign(positions.begin(), positions.end());
+    mesh.indices.resize(net.quads.size() * 6);
+    std::uint32_t* out = mesh.indices.data();
+    for (const auto& q : net.quads) {
+        const glm::vec3 a = positions[q[0]], b = positions[q[1]], c = positions[q[2]],
+                        d = positions[q[3]];
+        if (split_along_ac(a, b, c, d, rule)) {
+            const std::uint32_t t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+            std::copy(t, t + 6, out);
+        } else {
+            const std::uint32_t t[6] = {q[0], q[1], q[3], q[1], q[2], q[3]};
+            std::copy(t, t + 6, out);
+        }
+        out += 6;
+    }
+    return mesh;
+}
+
+} // namespace snert

@@ -1,0 +1,536 @@
+// Metrics against hand-computed values: triangle shapes, smoothness of known solids, topology
+// counts, area and volume, accuracy, and the grid-accelerated mesh distance against brute force.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
+#include <utility>
+
+#include "core/metrics.h"
+
+namespace snert {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Mesh unit_cube() {
+    Mesh m;
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back({float(i & 1), float(i >> 1 & 1), float(i >> 2)});
+    // Two outward triangles per face (counter-clockwise seen from outside).
+    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads)
+        m.indices.insert(m.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    return m;
+}
+
+Mesh flipped(Mesh m) {
+    for (std::size_t t = 0; t < m.indices.size(); t += 3)
+        std::swap(m.indices[t + 1], m.indices[t + 2]);
+    return m;
+}
+
+Mesh translated(Mesh m, glm::vec3 offset) {
+    for (glm::vec3& p : m.positions) p += offset;
+    return m;
+}
+
+// Vertices at +-x, +-y, +-z: eight equilateral faces, outward.
+Mesh octahedron() {
+    Mesh m;
+    m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (std::uint32_t x : {0u, 1u})
+        for (std::uint32_t y : {2u, 3u})
+            for (std::uint32_t z : {4u, 5u}) {
+                const bool odd = ((x == 1) != (y == 3)) != (z == 5); // odd number of negative axes
+                if (odd)
+                    m.indices.insert(m.indices.end(), {x, z, y});
+                else
+                    m.indices.insert(m.indices.end(), {x, y, z});
+            }
+    return m;
+}
+
+// n x n squares in the plane z = 0, each split into two triangles facing +z.
+Mesh flat_grid(int n) {
+    Mesh m;
+    for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x) m.positions.push_back({float(x), float(y), 0.0f});
+    auto id = [n](int x, int y) { return std::uint32_t(y * (n + 1) + x); };
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            m.indices.insert(m.indices.end(), {id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y),
+                                               id(x + 1, y + 1), id(x, y + 1)});
+    return m;
+}
+
+// Icosahedron subdivided `levels` times with vertices pushed onto the unit sphere.
+Mesh icosphere(int levels) {
+    const float g = (1.0f + std::sqrt(5.0f)) / 2.0f;
+    Mesh m;
+    m.positions = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                   {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+    m.indices = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+                 4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
+                 6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
+    for (int level = 0; level < levels; ++level) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
+        auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+            const auto key = std::minmax(a, b);
+            const auto found = midpoints.find(key);
+            if (found != midpoints.end()) return found->second;
+            m.positions.push_back((m.positions[a] + m.positions[b]) * 0.5f);
+            return midpoints[key] = std::uint32_t(m.positions.size() - 1);
+        };
+        std::vector<std::uint32_t> finer;
+        for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+            const std::uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
+            const std::uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+            finer.insert(finer.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+        }
+        m.indices = std::move(finer);
+    }
+    for (glm::vec3& p : m.positions) p = glm::normalize(p);
+    return m;
+}
+
+// --- Triangle shape -------------------------------------------------------------------------
+
+TEST(TriangleShape, Equilateral) {
+    const TriangleShape s = triangle_shape({0, 0, 0}, {2, 0, 0}, {1, std::sqrt(3.0f), 0});
+    EXPECT_NEAR(s.quality, 1.0, 1e-6);
+    EXPECT_NEAR(s.quality60, 1.0, 1e-6);
+    EXPECT_NEAR(s.radius_ratio, 1.0, 1e-6);
+    EXPECT_NEAR(s.min_angle, 60.0, 1e-4);
+    EXPECT_NEAR(s.area, std::sqrt(3.0), 1e-6);
+    EXPECT_FALSE(s.degenerate);
+}
+
+TEST(TriangleShape, RightIsosceles) {
+    const TriangleShape s = triangle_shape({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    EXPECT_NEAR(s.quality, 0.5, 1e-6);    // 45 / 90
+    EXPECT_NEAR(s.quality60, 0.75, 1e-6); // 45 / 60
+    EXPECT_NEAR(s.radius_ratio, 2.0 * (std::sqrt(2.0) - 1.0), 1e-6);
+    EXPECT_NEAR(s.min_angle, 45.0, 1e-4);
+    EXPECT_NEAR(s.area, 0.5, 1e-7);
+}
+
+TEST(TriangleShape, ThirtySixtyNinety) {
+    // Sides 1, sqrt 3, 2; angles 30, 60, 90; 2r/R = 8 A^2 / (s abc) = sqrt 3 - 1.
+    const TriangleShape s = triangle_shape({0, 0, 0}, {std::sqrt(3.0f), 0, 0}, {0, 1, 0});
+    EXPECT_NEAR(s.quality, 1.0 / 3.0, 1e-6);
+    EXPECT_NEAR(s.quality60, 0.5, 1e-6);
+    EXPECT_NEAR(s.radius_ratio, std::sqrt(3.0) - 1.0, 1e-6);
+    EXPECT_NEAR(s.min_angle, 30.0, 1e-4);
+    EXPECT_NEAR(s.area, std::sqrt(3.0) / 2.0, 1e-6);
+}
+
+TEST(TriangleShape, IndependentOfOrderScaleAndPosition) {
+    const glm::vec3 a{0.3f, -1.2f, 2.0f}, b{1.7f, 0.4f, -0.5f}, c{-0.8f, 2.1f, 0.9f};
+    const TriangleShape s = triangle_shape(a, b, c);
+    for (const TriangleShape& t :
+         {triangle_shape(b, c, a), triangle_shape(c, b, a),
+          triangle_shape(a * 1000.0f + 50.0f, b * 1000.0f + 50.0f, c * 1000.0f + 50.0f)}) {
+        EXPECT_NEAR(t.quality, s.quality, 1e-5);
+        EXPECT_NEAR(t.quality60, s.quality60, 1e-5);
+        EXPECT_NEAR(t.radius_ratio, s.radius_ratio, 1e-5);
+        EXPECT_NEAR(t.min_angle, s.min_angle, 1e-3);
+    }
+    EXPECT_GT(s.quality, 0.0f);
+    EXPECT_LT(s.quality, 1.0f);
+}
+
+TEST(TriangleShape, DegenerateGivesZeroNotNaN) {
+    for (const auto& [a, b, c] :
+         {std::tuple{glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(2, 0, 0)},
+          std::tuple{glm::vec3(1), glm::vec3(1), glm::vec3(1)},
+          std::tuple{glm::vec3(0), glm::vec3(0), glm::vec3(0, 1, 0)},
+          std::tuple{glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0.5f, NAN, 0)}}) {
+        const TriangleShape s = triangle_shape(a, b, c);
+        EXPECT_TRUE(s.degenerate);
+        EXPECT_EQ(s.quality, 0.0f);
+        EXPECT_EQ(s.quality60, 0.0f);
+        EXPECT_EQ(s.radius_ratio, 0.0f);
+        EXPECT_EQ(s.min_angle, 0.0f);
+        EXPECT_EQ(s.area, 0.0f);
+    }
+}
+
+TEST(TriangleShape, DegenerateThresholdIsRelative) {
+    // Height / longest edge of 1e-7 is below kDegenerateHeightRatio, 1e-4 is a real sliver.
+    const TriangleShape flat = triangle_shape({0, 0, 0}, {1000, 0, 0}, {500, 1e-4f, 0});
+    EXPECT_TRUE(flat.degenerate);
+    EXPECT_GT(flat.area, 0.0f);
+    const TriangleShape sliver = triangle_shape({0, 0, 0}, {1, 0, 0}, {0.5f, 1e-4f, 0});
+    EXPECT_FALSE(sliver.degenerate);
+    EXPECT_GT(sliver.quality, 0.0f);
+    // Smallest angle atan(2e-4) in degrees, the largest about 180.
+    EXPECT_NEAR(sliver.min_angle, std::atan(2e-4) * 180.0 / kPi, 1e-5);
+}
+
+// --- Quality statistics ---------------------------------------------------------------------
+
+TEST(QualityStats, MixOfKnownTriangles) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {2, 0, 0}, {1, std::sqrt(3.0f), 0}, // equilateral
+                   {0, 0, 5}, {1, 0, 5}, {0, 1, 5},               // right isosceles
+                   {0, 0, 9}, {1, 0, 9}, {2, 0, 9}};              // degenerate
+    m.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    const QualityStats s = quality_stats(m);
+    EXPECT_NEAR(s.mean, 1.5 / 3.0, 1e-6);
+    EXPECT_EQ(s.min, 0.0);
+    EXPECT_NEAR(s.quality60_mean, 1.75 / 3.0, 1e-6);
+    EXPECT_NEAR(s.radius_ratio_mean, (1.0 + 2.0 * (std::sqrt(2.0) - 1.0)) / 3.0, 1e-6);
+    EXPECT_EQ(s.min_angle_min, 0.0);
+    EXPECT_EQ(s.degenerate, 1u);
+    std::array<std::size_t, kQualityBins> expected{};
+    expected[0] = 1;                // q = 0
+    expected[kQualityBins / 2] = 1; // q = 0.5 opens the upper half
+    expected[kQualityBins - 1] = 1; // q = 1 is in the last, closed bin
+    EXPECT_EQ(s.histogram, expected);
+
+    const std::vector<float> q = triangle_quality(m);
+    ASSERT_EQ(q.size(), 3u);
+    EXPECT_NEAR(q[0], 1.0f, 1e-6);
+    EXPECT_NEAR(q[1], 0.5f, 1e-6);
+    EXPECT_EQ(q[2], 0.0f);
+}
+
+TEST(QualityStats, EmptyMeshIsAllZero) {
+    const QualityStats s = quality_stats(Mesh{});
+    EXPECT_EQ(s.mean, 0.0);
+    EXPECT_EQ(s.min, 0.0);
+    EXPECT_EQ(s.degenerate, 0u);
+    EXPECT_TRUE(triangle_quality(Mesh{}).empty());
+}
+
+TEST(QualityStats, LargeGridOverManyChunks) {
+    // 2 * 130^2 = 33800 right isosceles triangles: more than one parallel chunk.
+    const Mesh grid = flat_grid(130);
+    const QualityStats s = quality_stats(grid);
+    EXPECT_NEAR(s.mean, 0.5, 1e-9);
+    EXPECT_NEAR(s.min, 0.5, 1e-6);
+    EXPECT_NEAR(s.min_angle_min, 45.0, 1e-4);
+    EXPECT_EQ(s.degenerate, 0u);
+    EXPECT_EQ(s.histogram[kQualityBins / 2], grid.triangle_count());
+}
+
+TEST(QualityStats, RejectsBadIndices) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.indices = {0, 1, 3};
+    EXPECT_THROW(quality_stats(m), std::invalid_argument);
+    m.indices = {0, 1};
+    EXPECT_THROW(topology(m), std::invalid_argument);
+}
+
+// --- Smoothness -----------------------------------------------------------------------------
+
+TEST(Smoothness, FlatGridIsZero) {
+    EXPECT_NEAR(smoothness(flat_grid(6)), 0.0, 1e-12);
+}
+
+TEST(Smoothness, CubeCornersArePiOverTwo) {
+    // Three right angles meet at each corner however the faces are split: 2 pi - 3 pi / 2.
+    EXPECT_NEAR(smoothness(unit_cube()), kPi / 2.0, 1e-12);
+    EXPECT_NEAR(smoothness(flipped(unit_cube())), kPi / 2.0, 1e-12);
+}
+
+TEST(Smoothness, RegularOctahedron) {
+    // Four 60 degree angles at each vertex: 2 pi - 4 pi / 3.
+    EXPECT_NEAR(smoothness(octahedron()), 2.0 * kPi / 3.0, 1e-6);
+}
+
+TEST(Smoothness, BoundaryVerticesAreLeftOut) {
+    // A square pyramid without base: only the apex is interior.
+    Mesh m;
+    m.positions = {{0, 0, 1}, {1, 1, 0}, {-1, 1, 0}, {-1, -1, 0}, {1, -1, 0}};
+    m.indices = {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1};
+    const double apex_angle = std::acos(1.0 / 3.0); // between (1, 1, -1) and (-1, 1, -1)
+    EXPECT_NEAR(smoothness(m), std::abs(2.0 * kPi - 4.0 * apex_angle), 1e-6);
+    Mesh single;
+    single.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    single.indices = {0, 1, 2};
+    EXPECT_EQ(smoothness(single), 0.0);
+}
+
+TEST(Smoothness, PinchedVertexIsLeftOut) {
+    // Two cubes sharing one corner: that vertex has two fans (angle sum 3 pi) and is excluded,
+    // so the mean stays pi / 2 (it would not if the pinch vertex counted).
+    Mesh m = unit_cube();
+    Mesh second = translated(unit_cube(), {1, 1, 1});
+    for (std::uint32_t& i : second.indices) i = i == 0 ? 7 : i + 8;
+    m.positions.insert(m.positions.end(), second.positions.begin(), second.positions.end());
+    m.indices.insert(m.indices.end(), second.indices.begin(), second.indices.end());
+    EXPECT_NEAR(smoothness(m), kPi / 2.0, 1e-12);
+    const Topology t = topology(m);
+    EXPECT_TRUE(t.watertight);
+    EXPECT_FALSE(t.manifold);
+    EXPECT_EQ(t.euler, 15 - 36 + 24);
+}
+
+TEST(Smoothness, ConvexSphereFollowsGaussBonnet) {
+    // The angle defects of a closed genus-0 mesh sum to 4 pi; on a convex one they are all
+    // positive, so the mean |defect| is exactly 4 pi / V.
+    for (int level : {1, 3}) {
+        const Mesh sphere = icosphere(level);
+        EXPECT_NEAR(smoothness(sphere), 4.0 * kPi / double(sphere.vertex_count()), 1e-9);
+    }
+}
+
+// --- Topology -------------------------------------------------------------------------------
+
+TEST(Topology, ClosedCube) {
+    const Topology t = topology(unit_cube());
+    EXPECT_TRUE(t.watertight);
+    EXPECT_TRUE(t.manifold);
+    EXPECT_TRUE(t.oriented);
+    EXPECT_EQ(t.euler, 2);
+    EXPECT_EQ(t.boundary_edges, 0u);
+    EXPECT_EQ(t.nonmanifold_edges, 0u);
+    EXPECT_EQ(t.collapsed_triangles, 0u);
+    EXPECT_TRUE(topology(flipped(unit_cube())).oriented);
+}
+
+TEST(Topology, OneFlippedTriangleIsNotOriented) {
+    Mesh m = unit_cube();
+    std::swap(m.indices[1], m.indices[2]);
+    const Topology t = topology(m);
+    EXPECT_TRUE(t.watertight);
+    EXPECT_TRUE(t.manifold);
+    EXPECT_FALSE(t.oriented);
+}
+
+TEST(Topology, GridHasBoundary) {
+    const int n = 7;
+    const Topology t = topology(flat_grid(n));
+    EXPECT_FALSE(t.watertight);
+    EXPECT_FALSE(t.manifold);
+    EXPECT_TRUE(t.oriented);
+    EXPECT_EQ(t.boundary_edges, std::size_t(4 * n));
+    EXPECT_EQ(t.nonmanifold_edges, 0u);
+    EXPECT_EQ(t.euler, 1); // a disc
+}
+
+TEST(Topology, LargeGridOverManyChunks) {
+    // 201^2 vertices: several vertex chunks; 2 * 200^2 triangles.
+    const Topology t = topology(flat_grid(200));
+    EXPECT_EQ(t.boundary_edges, 800u);
+    EXPECT_EQ(t.euler, 1);
+    EXPECT_TRUE(t.oriented);
+}
+
+TEST(Topology, FinEdgeIsNonManifold) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+    m.indices = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    const Topology t = topology(m);
+    EXPECT_EQ(t.nonmanifold_edges, 1u);
+    EXPECT_EQ(t.boundary_edges, 6u);
+    EXPECT_FALSE(t.watertight);
+    EXPECT_FALSE(t.oriented); // edge 0-1 is used twice as 0 -> 1
+    EXPECT_EQ(t.euler, 5 - 7 + 3);
+}
+
+TEST(Topology, CollapsedTriangle) {
+    Mesh m = unit_cube();
+    m.indices.insert(m.indices.end(), {0, 0, 1});
+    const Topology t = topology(m);
+    EXPECT_EQ(t.collapsed_triangles, 1u);
+    EXPECT_FALSE(t.watertight);
+    EXPECT_FALSE(t.manifold);
+}
+
+TEST(Topology, SphereAndOctahedron) {
+    for (const Mesh& m : {octahedron(), icosphere(2)}) {
+        const Topology t = topology(m);
+        EXPECT_TRUE(t.watertight);
+        EXPECT_TRUE(t.manifold);
+        EXPECT_TRUE(t.oriented);
+        EXPECT_EQ(t.euler, 2);
+    }
+}
+
+TEST(Topology, UnreferencedVerticesDoNotCount) {
+    Mesh m = unit_cube();
+    m.positions.push_back({5, 5, 5});
+    EXPECT_EQ(topology(m).euler, 2);
+}
+
+TEST(Topology, EmptyMesh) {
+    const Topology t = topology(Mesh{});
+    EXPECT_FALSE(t.watertight);
+    EXPECT_FALSE(t.manifold);
+    EXPECT_FALSE(t.oriented);
+    EXPECT_EQ(t.euler, 0);
+}
+
+// --- Area and volume ------------------------------------------------------------------------
+
+TEST(AreaVolume, UnitCube) {
+    EXPECT_NEAR(surface_area(unit_cube()), 6.0, 1e-12);
+    EXPECT_NEAR(enclosed_volume(unit_cube()), 1.0, 1e-12);
+    EXPECT_NEAR(enclosed_volume(flipped(unit_cube())), -1.0, 1e-12);
+    EXPECT_NEAR(enclosed_volume(translated(unit_cube(), {1000, -2000, 3000})), 1.0, 1e-9);
+}
+
+TEST(AreaVolume, Tetrahedron) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    EXPECT_NEAR(enclosed_volume(m), 1.0 / 6.0, 1e-12);
+    EXPECT_NEAR(surface_area(m), 1.5 + std::sqrt(3.0) / 2.0, 1e-7);
+    EXPECT_TRUE(topology(m).oriented);
+}
+
+TEST(AreaVolume, Octahedron) {
+    EXPECT_NEAR(enclosed_volume(octahedron()), 4.0 / 3.0, 1e-7);
+    EXPECT_NEAR(surface_area(octahedron()), 8.0 * std::sqrt(3.0) / 4.0 * 2.0, 1e-6);
+}
+
+// --- Accuracy -------------------------------------------------------------------------------
+
+TEST(Accuracy, OctahedronAgainstUnitSphere) {
+    const DistanceFunction sphere = [](glm::vec3 p) { return glm::length(p) - 1.0f; };
+    const Accuracy a = accuracy(octahedron(), sphere);
+    EXPECT_NEAR(a.vertices_mean, 0.0, 1e-7);
+    EXPECT_NEAR(a.vertices_max, 0.0, 1e-7);
+    // Face centres (1, 1, 1) / 3 lie 1 - 1 / sqrt 3 inside; the signed value counts as distance.
+    EXPECT_NEAR(a.faces_mean, 1.0 - 1.0 / std::sqrt(3.0), 1e-6);
+    EXPECT_NEAR(a.faces_max, 1.0 - 1.0 / std::sqrt(3.0), 1e-6);
+}
+
+TEST(Accuracy, LargeGridAgainstShiftedPlane) {
+    const Mesh grid = flat_grid(100);
+    const Accuracy a = accuracy(grid, [](glm::vec3 p) { return p.z - 0.25f + 0.001f * p.x; });
+    // |0.001 x - 0.25| falls from 0.25 at x = 0 to 0.15 at x = 100; the mean x of the vertices
+    // and of the face centres is 50, so both means are 0.2.
+    EXPECT_NEAR(a.vertices_mean, 0.2, 1e-5);
+    EXPECT_NEAR(a.vertices_max, 0.25, 1e-6);
+    EXPECT_NEAR(a.faces_mean, 0.2, 1e-5);
+    EXPECT_EQ(accuracy(Mesh{}, [](glm::vec3) { return 1.0f; }).vertices_mean, 0.0);
+}
+
+// --- Mesh distance --------------------------------------------------------------------------
+
+// Independent brute-force reference: the plane distance when the projection falls inside the
+// triangle, otherwise the nearest of the three edges.
+double segment_distance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+    const glm::dvec3 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (a + t * ab));
+}
+
+double reference_triangle_distance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    if (glm::length(n) > 1e-12) {
+        const glm::dvec3 u = glm::normalize(n);
+        const double height = glm::dot(p - a, u);
+        const glm::dvec3 q = p - height * u;
+        const bool inside = glm::dot(glm::cross(b - a, q - a), n) >= 0 &&
+                            glm::dot(glm::cross(c - b, q - b), n) >= 0 &&
+                            glm::dot(glm::cross(a - c, q - c), n) >= 0;
+        if (inside) return std::abs(height);
+    }
+    return std::min(
+        {segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
+}
+
+double brute_force_distance(const Mesh& m, glm::vec3 p) {
+    double best = INFINITY;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3)
+        best = std::min(best, reference_triangle_distance(p, m.positions[m.indices[t]],
+                                                          m.positions[m.indices[t + 1]],
+                                                          m.positions[m.indices[t + 2]]));
+    return best;
+}
+
+TEST(MeshDistance, SingleTriangleByHand) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.indices = {0, 1, 2};
+    const MeshDistance d(m);
+    EXPECT_NEAR(d({0.25f, 0.25f, 2.0f}), 2.0f, 1e-6);          // above the face
+    EXPECT_NEAR(d({0.25f, 0.25f, -0.5f}), 0.5f, 1e-6);         // below
+    EXPECT_NEAR(d({3.0f, 0.0f, 0.0f}), 2.0f, 1e-6);            // beyond corner (1, 0, 0)
+    EXPECT_NEAR(d({0.5f, -1.0f, 0.0f}), 1.0f, 1e-6);           // beside edge y = 0
+    EXPECT_NEAR(d({1.0f, 1.0f, 0.0f}), std::sqrt(0.5f), 1e-6); // beside the hypotenuse
+    EXPECT_NEAR(d({-3.0f, -4.0f, 0.0f}), 5.0f, 1e-5);          // beyond corner (0, 0, 0)
+    EXPECT_EQ(d({0.2f, 0.3f, 0.0f}), 0.0f);                    // on the face
+    EXPECT_TRUE(std::isnan(d({NAN, 0, 0})));
+}
+
+TEST(MeshDistance, CubeByHand) {
+    const MeshDistance d(unit_cube());
+    EXPECT_NEAR(d({0.5f, 0.5f, 0.5f}), 0.5f, 1e-6);
+    EXPECT_NEAR(d({0.5f, 0.5f, 0.2f}), 0.2f, 1e-6);
+    EXPECT_NEAR(d({2.5f, 0.5f, 0.5f}), 1.5f, 1e-6);
+    EXPECT_NEAR(d({2.0f, 2.0f, 2.0f}), std::sqrt(3.0f), 1e-6);
+    EXPECT_NEAR(d({-100.0f, 0.5f, 0.5f}), 100.0f, 1e-4);
+}
+
+TEST(MeshDistance, MatchesBruteForceOnBumpySphere) {
+    Mesh m = icosphere(3); // 1280 triangles
+    for (glm::vec3& p : m.positions)
+        p *= 1.0f + 0.15f * std::sin(5.0f * p.x) * std::cos(3.0f * p.y + p.z);
+    // A few degenerate triangles must not upset it: a collapsed and a collinear one.
+    const std::uint32_t first = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), {{2.0f, 0.0f, 0.0f}, {3.0f, 0.0f, 0.0f}, {4.0f, 0, 0}});
+    m.indices.insert(m.indices.end(), {0, 0, 1, first, first + 1, first + 2});
+    const MeshDistance d(m);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> near(-1.6f, 1.6f), far(-40.0f, 40.0f);
+    std::vector<glm::vec3> points;
+    for (int i = 0; i < 300; ++i) points.push_back({near(random), near(random), near(random)});
+    for (int i = 0; i < 30; ++i) points.push_back({far(random), far(random), far(random)});
+    for (int i = 0; i < 30; ++i) points.push_back(m.positions[std::size_t(i) * 17] * 1.001f);
+    for (const glm::vec3& p : points) {
+        const double expected = brute_force_distance(m, p);
+        EXPECT_NEAR(d(p), expected, 1e-5 * std::max(1.0, expected))
+            << p.x << ' ' << p.y << ' ' << p.z;
+    }
+}
+
+TEST(MeshDistance, ConcurrentQueriesAgree) {
+    const MeshDistance d(icosphere(2));
+    std::vector<glm::vec3> points;
+    for (int i = 0; i < 200; ++i)
+        points.push_back({std::sin(i * 1.3f) * 2, std::cos(i * 0.7f), i * 0.01f});
+    std::vector<float> serial;
+    for (const glm::vec3& p : points) serial.push_back(d(p));
+    std::vector<std::vector<float>> results(4);
+    {
+        std::vector<std::jthread> threads;
+        for (auto& r : results)
+            threads.emplace_back([&, copy = d] {
+                for (const glm::vec3& p : points) r.push_back(copy(p));
+            });
+    }
+    for (const auto& r : results) EXPECT_EQ(r, serial);
+    // Used as an accuracy reference, the sphere is at distance 0 from its own vertices.
+    EXPECT_NEAR(accuracy(icosphere(2), d).vertices_max, 0.0, 1e-6);
+}
+
+TEST(MeshDistance, FlatAndTinyMeshes) {
+    const MeshDistance plane(flat_grid(20)); // one cell thick
+    EXPECT_NEAR(plane({3.3f, 7.7f, 2.0f}), 2.0f, 1e-6);
+    EXPECT_NEAR(plane({-1.0f, 5.0f, 0.0f}), 1.0f, 1e-6);
+    Mesh point; // all three corners at one spot
+    point.positions = {{1, 2, 3}};
+    point.indices = {0, 0, 0};
+    EXPECT_NEAR(MeshDistance(point)({1, 2, 7}), 4.0f, 1e-6);
+}
+
+TEST(MeshDistance, RejectsEmptyReference) {
+    EXPECT_THROW(MeshDistance(Mesh{}), std::invalid_argument);
+}
+
+} // namespace
+} // namespace snert

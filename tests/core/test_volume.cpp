@@ -1,0 +1,139 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/phantom.h"
+#include "core/segmentation.h"
+#include "core/volume.h"
+
+using namespace snert;
+
+namespace {
+
+// I = 2x - 3y + 0.5z + 7: trilinear sampling and every gradient must be exact on it.
+Volume linear_ramp(glm::ivec3 dims) {
+    Volume v = make_volume(dims);
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x)
+                v.samples[v.index(x, y, z)] = 2.0f * x - 3.0f * y + 0.5f * z + 7.0f;
+    return v;
+}
+
+} // namespace
+
+TEST(Volume, TrilinearIsExactOnLinearField) {
+    const Volume v = linear_ramp({6, 5, 4});
+    for (glm::vec3 p : {glm::vec3(0.25f, 1.5f, 2.75f), glm::vec3(4.9f, 3.1f, 0.0f),
+                        glm::vec3(5.0f, 4.0f, 3.0f)})
+        EXPECT_NEAR(sample_trilinear(v, p), 2 * p.x - 3 * p.y + 0.5f * p.z + 7, 1e-4f);
+}
+
+TEST(Volume, TrilinearClampsOutsideTheGrid) {
+    const Volume v = linear_ramp({4, 4, 4});
+    EXPECT_FLOAT_EQ(sample_trilinear(v, {-3.0f, 0.0f, 0.0f}), v.at(0, 0, 0));
+    EXPECT_FLOAT_EQ(sample_trilinear(v, {10.0f, 3.0f, 3.0f}), v.at(3, 3, 3));
+}
+
+TEST(Volume, CentralGradientOfLinearField) {
+    const Volume v = linear_ramp({6, 6, 6});
+    const glm::vec3 g = gradient_central(v, {2.3f, 3.7f, 1.2f});
+    EXPECT_NEAR(g.x, 2.0f, 1e-5f);
+    EXPECT_NEAR(g.y, -3.0f, 1e-5f);
+    EXPECT_NEAR(g.z, 0.5f, 1e-5f);
+    // One-sided at the border, still exact for a linear field.
+    const glm::vec3 edge = gradient_central(v, {0.0f, 0.0f, 5.0f});
+    EXPECT_NEAR(edge.x, 2.0f, 1e-5f);
+    EXPECT_NEAR(edge.z, 0.5f, 1e-5f);
+}
+
+TEST(Volume, GaussianGradientOfLinearFieldAwayFromBorder) {
+    const Volume v = linear_ramp({16, 16, 16});
+    const GradientField field = gradient_field_gaussian(v, 1.5f);
+    const glm::vec3 g = sample_trilinear(field, {7.5f, 8.0f, 8.25f});
+    EXPECT_NEAR(g.x, 2.0f, 1e-3f);
+    EXPECT_NEAR(g.y, -3.0f, 1e-3f);
+    EXPECT_NEAR(g.z, 0.5f, 1e-3f);
+}
+
+TEST(Volume, GaussianGradientSmoothsNoise) {
+    // On the noisy sphere the Gaussian gradient is closer to the true radial direction.
+    const Phantom noisy = make_phantom("noisy-sphere", 32, 7);
+    const GradientField field = gradient_field_gaussian(noisy.volume, 1.5f);
+    const glm::vec3 c(15.5f);
+    double central_error = 0, gaussian_error = 0;
+    for (int i = 0; i < 200; ++i) {
+        const float a = 0.1f * float(i), b = 0.37f * float(i);
+        const glm::vec3 dir(std::cos(a) * std::sin(b), std::sin(a) * std::sin(b), std::cos(b));
+        const glm::vec3 p = c + dir * 0.35f * 32.0f;
+        // Inside positive: the gradient points inwards.
+        central_error += glm::length(glm::normalize(gradient_central(noisy.volume, p)) + dir);
+        gaussian_error += glm::length(glm::normalize(sample_trilinear(field, p)) + dir);
+    }
+    EXPECT_LT(gaussian_error, 0.5 * central_error);
+}
+
+TEST(Volume, WorldMappingRoundTrips) {
+    Volume v = make_volume({4, 4, 4});
+    v.spacing = {0.5f, 2.0f, 3.0f};
+    v.origin = {10.0f, -5.0f, 1.0f};
+    v.direction = glm::mat3(glm::vec3(0, 1, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 0, 1));
+    const glm::vec3 w = index_to_world(v, {1.0f, 2.0f, 3.0f});
+    EXPECT_NEAR(w.x, 10.0f - 4.0f, 1e-5f);
+    EXPECT_NEAR(w.y, -5.0f + 0.5f, 1e-5f);
+    EXPECT_NEAR(w.z, 1.0f + 9.0f, 1e-5f);
+    const glm::vec3 back = world_to_index(v, w);
+    EXPECT_NEAR(glm::distance(back, glm::vec3(1, 2, 3)), 0.0f, 1e-5f);
+}
+
+TEST(Volume, RejectsBadDimensions) {
+    EXPECT_THROW(make_volume({0, 4, 4}), std::invalid_argument);
+    EXPECT_THROW(make_volume({-1, 4, 4}), std::invalid_argument);
+}
+
+TEST(Segmentation, ThresholdRulesAndNaN) {
+    Volume v = make_volume({4, 1, 1});
+    v.samples = {0.0f, 1.0f, 2.0f, std::nanf("")};
+    const Segmentation above = segment_threshold(v, 1.0f, InsideIs::Above);
+    const Segmentation below = segment_threshold(v, 1.0f, InsideIs::Below);
+    EXPECT_EQ(above.inside, (std::vector<std::uint8_t>{0, 1, 1, 0}));
+    EXPECT_EQ(below.inside, (std::vector<std::uint8_t>{1, 1, 0, 0}));
+}
+
+TEST(Segmentation, Label) {
+    Volume v = make_volume({5, 1, 1});
+    v.samples = {0, 5, 5, 2, 5};
+    EXPECT_EQ(segment_label(v, 5).count_inside(), 3u);
+    EXPECT_EQ(segment_label(v, 2).count_inside(), 1u);
+}
+
+TEST(Phantom, DistanceMapsAndReferences) {
+    for (const std::string& name : phantom_names()) {
+        const Phantom p = make_phantom(name, 32);
+        EXPECT_EQ(p.volume.dims, glm::ivec3(32)) << name;
+        EXPECT_GT(segment_threshold(p.volume, p.iso).count_inside(), 0u) << name;
+        EXPECT_LT(segment_threshold(p.volume, p.iso).count_inside(), p.volume.voxel_count())
+            << name;
+    }
+    const Phantom sphere = make_phantom("sphere", 64);
+    EXPECT_NEAR(sphere.reference_distance({31.5f + 22.4f, 31.5f, 31.5f}), 0.0f, 1e-4f);
+    EXPECT_NEAR(sphere.reference_distance({31.5f, 31.5f, 31.5f}), 22.4f, 1e-4f);
+    // The plane with normal (1, 2, 3) through the centre hits samples exactly.
+    const Phantom plane = make_phantom("plane", 64);
+    int exact = 0;
+    for (float v : plane.volume.samples) exact += v == 0.0f;
+    EXPECT_GT(exact, 100);
+    const Phantom binary = make_phantom("binary-sphere", 16);
+    for (float v : binary.volume.samples) EXPECT_TRUE(v == 0.0f || v == 1.0f);
+    EXPECT_THROW(make_phantom("cube", 32), std::invalid_argument);
+    EXPECT_THROW(make_phantom("sphere", 4), std::invalid_argument);
+    EXPECT_EQ(phantom_spec_name("phantom:torus"), "torus");
+    EXPECT_EQ(phantom_spec_name("torus.nrrd"), "");
+}
+
+TEST(Phantom, NoiseIsSeeded) {
+    EXPECT_EQ(make_phantom("noisy-sphere", 16, 3).volume.samples,
+              make_phantom("noisy-sphere", 16, 3).volume.samples);
+    EXPECT_NE(make_phantom("noisy-sphere", 16, 3).volume.samples,
+              make_phantom("noisy-sphere", 16, 4).volume.samples);
+}
