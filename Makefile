@@ -2,6 +2,7 @@
 JOBS ?= $(shell nproc)
 RELEASE := build/release
 TEST := build/test
+FUZZ_SECONDS ?= 60
 
 .PHONY: setup run test bench fuzz format clean
 
@@ -23,6 +24,10 @@ test: setup
 
 bench: release
 	$(RELEASE)/snert_bench --benchmark_counters_tabular=true
+
+# libFuzzer on snert's own header handling and raw reader (clang, outside the CMake build).
+fuzz: setup
+	bash tests/fuzz/run.sh $(FUZZ_SECONDS)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

@@ -6,9 +6,9 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libglfw3-dev libimgui-dev libglm-dev libosmesa6-dev libegl-dev libgl1-mesa-dri libstb-dev
-  python3-glad
+  python3-glad fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev nlohmann-json3-dev
-  libinsighttoolkit5-dev
+  libinsighttoolkit5-dev zlib1g-dev
   xvfb xauth x11-apps imagemagick
   clang libclang-rt-14-dev
 )

@@ -36,15 +36,22 @@ namespace snert {
 // segments (on an ambiguous face, cut each inside corner off on its own); orient each segment
 // so that, seen from outside the cube, the inside corners lie on its right; the segments then
 // chain into closed loops, wound counter-clockwise seen from the outside of the surface; each
-// loop is triangulated once, here, with a fixed triangulation.
+// loop is triangulated once, here, with a fixed triangulation. A second table holds every
+// case again for every subset of its inside corners being welded (3^8 corner states).
 
 namespace detail {
 
 namespace {
 
-glm::ivec3 corner_offset(int corner) { return {corner & 1, (corner >> 1) & 1, (corner >> 2) & 1}; }
-int corner_at(glm::ivec3 offset) { return offset.x | offset.y << 1 | offset.z << 2; }
-bool corner_inside(unsigned mask, int corner) { return ((mask >> corner) & 1u) != 0; }
+glm::ivec3 corner_offset(int corner) {
+    return {corner & 1, (corner >> 1) & 1, (corner >> 2) & 1};
+}
+int corner_at(glm::ivec3 offset) {
+    return offset.x | offset.y << 1 | offset.z << 2;
+}
+bool corner_inside(unsigned mask, int corner) {
+    return ((mask >> corner) & 1u) != 0;
+}
 
 bool edge_crossed(unsigned mask, int edge) {
     return corner_inside(mask, cube_edge_corner(edge, 0)) !=
@@ -112,10 +119,10 @@ double smallest_angle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
 // A corner of a loop's polygon: a crossed edge, or (after welding) a cell corner standing in
 // for the run of crossed edges at it.
 struct PolygonVertex {
-    int edge = 0;           // a crossed edge whose vertex this is
-    glm::dvec3 point{0.0};  // expected position: the edge midpoint, or the corner
-    unsigned faces = 0;     // cube faces it lies on, bit 2 * axis + side
-    int corner = -1;        // the welded corner, -1 for a crossing
+    int edge = 0;          // a crossed edge whose vertex this is
+    glm::dvec3 point{0.0}; // expected position: the edge midpoint, or the corner
+    unsigned faces = 0;    // cube faces it lies on, bit 2 * axis + side
+    int corner = -1;       // the welded corner, -1 for a crossing
 };
 
 PolygonVertex edge_vertex(int edge) {
@@ -199,10 +206,11 @@ Triangulation triangulate_polygon(const std::vector<PolygonVertex>& polygon) {
                 if ((k - i > 1 && left.split < 0) || (j - k > 1 && right.split < 0)) continue;
                 Choice candidate;
                 candidate.cost = left.cost + right.cost + left_cost + right_cost;
-                candidate.min_angle =
-                    std::min({left.min_angle, right.min_angle,
-                              smallest_angle(polygon[i].point, polygon[k].point, polygon[j].point)});
-                candidate.diagonals = left.diagonals + right.diagonals + length(i, k) + length(k, j);
+                candidate.min_angle = std::min(
+                    {left.min_angle, right.min_angle,
+                     smallest_angle(polygon[i].point, polygon[k].point, polygon[j].point)});
+                candidate.diagonals =
+                    left.diagonals + right.diagonals + length(i, k) + length(k, j);
                 candidate.split = k;
                 if (chosen.split < 0 || better(candidate, chosen)) chosen = candidate;
             }
@@ -268,7 +276,8 @@ MarchingCubesCase build_case(unsigned inside) {
         if (result.loop_count == MarchingCubesCase::kMaxLoops)
             throw std::logic_error("marching cubes table: too many loops");
         result.loop_size[result.loop_count++] = std::uint8_t(polygon.size());
-        for (const PolygonVertex& v : polygon) result.loop_edges[used_edges++] = std::uint8_t(v.edge);
+        for (const PolygonVertex& v : polygon)
+            result.loop_edges[used_edges++] = std::uint8_t(v.edge);
         const Triangulation triangulation = triangulate_polygon(polygon);
         if (triangulation.boundary_cost != 0)
             throw std::logic_error("marching cubes table: a loop needs a diagonal on a face");
@@ -388,7 +397,7 @@ using Word = std::uint64_t;
 constexpr int kWordBits = 64;
 
 class SampleBits {
-public:
+  public:
     SampleBits() = default;
     SampleBits(glm::ivec3 dims, int words_per_row)
         : words_per_row_(words_per_row), rows_per_plane_(dims.y),
@@ -397,7 +406,7 @@ public:
     Word* row(int y, int z) { return words_.data() + offset(y, z); }
     const Word* row(int y, int z) const { return words_.data() + offset(y, z); }
 
-private:
+  private:
     std::size_t offset(int y, int z) const {
         return (std::size_t(z) * std::size_t(rows_per_plane_) + std::size_t(y)) *
                std::size_t(words_per_row_);
@@ -422,6 +431,18 @@ inline Word bits_before(int count, int w) {
     if (count <= first) return 0;
     return (Word(1) << (count - first)) - 1;
 }
+// 64 bytes of 0 or 1 -> one bit each. Eight at a time: the multiplication moves the low bit of
+// byte k to bit 56 + k without carries into the top byte.
+inline Word pack_bytes(const std::uint8_t* bytes) {
+    Word bits = 0;
+    for (int k = 0; k < 8; ++k) {
+        Word eight = 0; // byte j at bits 8j; compilers turn this into one load
+        for (int j = 0; j < 8; ++j) eight |= Word(bytes[8 * k + j]) << (8 * j);
+        bits |= ((eight * 0x0102040810204080ull) >> 56) << (8 * k);
+    }
+    return bits;
+}
+
 // Bits x and x + 1 of a row as a 2-bit number (x + 1 must be a sample).
 inline unsigned bit_pair(const Word* row, int x) {
     const int w = x / kWordBits, b = x % kWordBits;
@@ -468,11 +489,12 @@ inline double crossing_parameter(float a, float b, float iso) {
 // pass, so the fill pass writes disjoint ranges and could run slabs in parallel.
 
 class Extractor {
-public:
+  public:
     Extractor(const Volume& volume, const MarchingCubesOptions& options, const Progress& progress)
         : volume_(volume), iso_(options.iso), above_(options.inside == InsideIs::Above),
-          progress_(progress), dims_(volume.dims), words_((volume.dims.x + kWordBits - 1) / kWordBits),
-          zero_row_(std::size_t(words_), 0), ones_row_(std::size_t(words_), ~Word(0)) {}
+          progress_(progress), dims_(volume.dims),
+          words_((volume.dims.x + kWordBits - 1) / kWordBits), zero_row_(std::size_t(words_), 0),
+          ones_row_(std::size_t(words_), ~Word(0)) {}
 
     Mesh run() {
         classify(); // progress 0 .. 0.35
@@ -485,7 +507,7 @@ public:
         return mesh;
     }
 
-private:
+  private:
     struct PlaneCount {
         std::size_t welds = 0, xy = 0, z = 0;
     };
@@ -506,7 +528,6 @@ private:
     Word used_welds(int y, int z, int w) const {
         return weld_.row(y, z)[w] & (used_from_below_.row(y, z)[w] | used_from_above_.row(y, z)[w]);
     }
-    float sample(int x, int y, int z) const { return volume_.samples[volume_.index(x, y, z)]; }
     void report(float begin, float end, int step, int steps) const {
         progress_.update(begin + (end - begin) * float(step) / float(std::max(steps, 1)));
     }
@@ -550,7 +571,8 @@ private:
     // neighbours are checked again. Welds are only ever removed, so this ends; without welds the
     // surface is plain Marching Cubes, which is edge-manifold, and every weld that is left has
     // passed its check after the last change around it. Order: scan order, then each
-    // unweld's consequences at once, so the result is deterministic.
+    // unweld's consequences at once, so the result is deterministic. Serial, but it visits only
+    // samples exactly at iso that have an outside neighbour.
     void resolve_welds() {
         std::vector<glm::ivec3> recheck;
         const auto unweld = [&](glm::ivec3 p) {
@@ -589,7 +611,8 @@ private:
         const int lo = detail::cube_edge_corner(e, 0), hi = detail::cube_edge_corner(e, 1);
         const int in = ((inside >> lo) & 1u) != 0 ? lo : hi;
         const auto sample_id = [&](int corner) {
-            const glm::ivec3 q = origin + glm::ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+            const glm::ivec3 q =
+                origin + glm::ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
             return std::uint64_t(volume_.index(q.x, q.y, q.z));
         };
         if (((welded >> in) & 1u) != 0) return sample_id(in) * 4 + 3;
@@ -651,18 +674,29 @@ private:
 
     template <bool kAbove>
     bool classify_row(const float* samples, Word* inside, Word* at_iso) const {
+        // Comparisons into bytes first (this loop vectorises), then bytes into bits.
+        alignas(64) std::uint8_t in[kWordBits], eq[kWordBits];
         Word any_at_iso = 0;
         for (int w = 0; w < words_; ++w) {
             const int first = w * kWordBits, n = std::min(kWordBits, dims_.x - first);
             const float* v = samples + first;
-            Word in = 0, eq = 0;
-            for (int i = 0; i < n; ++i) {
-                in |= Word(kAbove ? v[i] >= iso_ : v[i] <= iso_) << i;
-                eq |= Word(v[i] == iso_) << i;
+            std::uint8_t any_eq = 0;
+            if (n == kWordBits) {
+                for (int i = 0; i < kWordBits; ++i) {
+                    in[i] = kAbove ? v[i] >= iso_ : v[i] <= iso_;
+                    eq[i] = v[i] == iso_;
+                    any_eq |= eq[i];
+                }
+            } else {
+                for (int i = 0; i < kWordBits; ++i) {
+                    in[i] = i < n && (kAbove ? v[i] >= iso_ : v[i] <= iso_);
+                    eq[i] = i < n && v[i] == iso_;
+                    any_eq |= eq[i];
+                }
             }
-            inside[w] = in;
-            at_iso[w] = eq;
-            any_at_iso |= eq;
+            inside[w] = pack_bytes(in);
+            at_iso[w] = any_eq != 0 ? pack_bytes(eq) : 0;
+            any_at_iso |= at_iso[w];
         }
         return any_at_iso != 0;
     }
@@ -712,8 +746,12 @@ private:
 
     // Cells of row (y, slab z) that the surface passes through (corners not all equal).
     Word active_cells(const CellRows& rows, int w) const {
-        const auto any = [&](int i) { return rows.r[0][i] | rows.r[1][i] | rows.r[2][i] | rows.r[3][i]; };
-        const auto all = [&](int i) { return rows.r[0][i] & rows.r[1][i] & rows.r[2][i] & rows.r[3][i]; };
+        const auto any = [&](int i) {
+            return rows.r[0][i] | rows.r[1][i] | rows.r[2][i] | rows.r[3][i];
+        };
+        const auto all = [&](int i) {
+            return rows.r[0][i] & rows.r[1][i] & rows.r[2][i] & rows.r[3][i];
+        };
         const bool more = w + 1 < words_;
         const Word any_w = any(w), all_w = all(w);
         const Word any_pair = any_w | (any_w >> 1) | (more ? any(w + 1) << (kWordBits - 1) : 0);
@@ -774,7 +812,8 @@ private:
         vertex_offset_.assign(std::size_t(dims_.z) + 1, 0);
         for (int z = 0; z < dims_.z; ++z) {
             const PlaneCount& c = plane_count_[std::size_t(z)];
-            vertex_offset_[std::size_t(z) + 1] = vertex_offset_[std::size_t(z)] + c.welds + c.xy + c.z;
+            vertex_offset_[std::size_t(z) + 1] =
+                vertex_offset_[std::size_t(z)] + c.welds + c.xy + c.z;
         }
         if (vertex_offset_.back() > std::numeric_limits<std::uint32_t>::max())
             throw std::runtime_error("marching cubes: the mesh would have " +
@@ -849,7 +888,8 @@ private:
                         place(glm::vec3(float(double(x) + t), float(y), float(z)));
                 });
                 for_each_bit(e.x_welded, w, [&](int x) {
-                    ids.x[row + std::size_t(x)] = ids.weld[row + std::size_t(bit_at(weld, x) ? x : x + 1)];
+                    ids.x[row + std::size_t(x)] =
+                        ids.weld[row + std::size_t(bit_at(weld, x) ? x : x + 1)];
                 });
                 for_each_bit(e.y_own, w, [&](int x) {
                     const double t = crossing_parameter(s[x], s_next[x], iso_);
@@ -904,10 +944,10 @@ private:
                     const detail::MarchingCubesCase& entry = cases[inside];
                     // Edge e of the cell -> vertex id, in the numbering of the table.
                     const std::size_t r0 = std::size_t(y) * nx + std::size_t(x), r1 = r0 + nx;
-                    const std::uint32_t id[12] = {
-                        lower.x[r0], lower.x[r1], upper.x[r0], upper.x[r1],
-                        lower.y[r0], lower.y[r0 + 1], upper.y[r0], upper.y[r0 + 1],
-                        z_ids[r0], z_ids[r0 + 1], z_ids[r1], z_ids[r1 + 1]};
+                    const std::uint32_t id[12] = {lower.x[r0],   lower.x[r1],     upper.x[r0],
+                                                  upper.x[r1],   lower.y[r0],     lower.y[r0 + 1],
+                                                  upper.y[r0],   upper.y[r0 + 1], z_ids[r0],
+                                                  z_ids[r0 + 1], z_ids[r1],       z_ids[r1 + 1]};
                     const unsigned welded = has_welds() ? welds.mask(x) : 0u;
                     if (welded == 0) {
                         for (int t = 0; t < entry.triangle_count; ++t) {
@@ -953,10 +993,10 @@ Mesh marching_cubes(const Volume& volume, const MarchingCubesOptions& options,
     if (std::isnan(options.iso)) throw std::invalid_argument("marching cubes: iso value is NaN");
     if (volume.dims.x < 0 || volume.dims.y < 0 || volume.dims.z < 0 ||
         volume.samples.size() != volume.voxel_count())
-        throw std::invalid_argument(
-            "marching cubes: volume of " + std::to_string(volume.dims.x) + " x " +
-            std::to_string(volume.dims.y) + " x " + std::to_string(volume.dims.z) + " has " +
-            std::to_string(volume.samples.size()) + " samples");
+        throw std::invalid_argument("marching cubes: volume of " + std::to_string(volume.dims.x) +
+                                    " x " + std::to_string(volume.dims.y) + " x " +
+                                    std::to_string(volume.dims.z) + " has " +
+                                    std::to_string(volume.samples.size()) + " samples");
     progress.update(0.0f);
     if (volume.dims.x < 2 || volume.dims.y < 2 || volume.dims.z < 2) {
         progress.update(1.0f);

@@ -1,0 +1,202 @@
+// Histogram, Otsu's iso suggestion, the NaN / infinity policy and the label-map helpers.
+//
+// This work is based on:
+//  - N. Otsu, "A threshold selection method from gray-level histograms", IEEE Trans. SMC 9(1),
+//    1979: the threshold maximises the between-class variance w0 w1 (m0 - m1)^2.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "load_volume.h"
+
+namespace snert {
+
+// ---- Histogram ----------------------------------------------------------------------------------
+
+double Histogram::bin_width() const {
+    return counts.empty() ? 0.0 : (double(hi) - double(lo)) / double(counts.size());
+}
+
+double Histogram::bin_centre(std::size_t bin) const {
+    return double(lo) + (double(bin) + 0.5) * bin_width();
+}
+
+std::uint64_t Histogram::total() const {
+    std::uint64_t sum = 0;
+    for (auto c : counts) sum += c;
+    return sum;
+}
+
+Histogram make_histogram(const Volume& volume, int bins) {
+    bins = std::clamp(bins, 1, 1 << 20);
+    Histogram h;
+    h.counts.assign(std::size_t(bins), 0);
+    const ValueRange range = value_range(volume);
+    h.lo = range.min;
+    h.hi = range.max;
+    const double span = double(h.hi) - double(h.lo);
+    for (float v : volume.samples) {
+        if (!std::isfinite(v)) continue;
+        std::size_t bin = 0;
+        if (span > 0.0)
+            bin = std::min(std::size_t(bins - 1),
+                           std::size_t((double(v) - double(h.lo)) / span * double(bins)));
+        ++h.counts[bin];
+    }
+    return h;
+}
+
+float otsu_threshold(const Histogram& histogram) {
+    const auto& c = histogram.counts;
+    const double total = double(histogram.total());
+    if (c.size() < 2 || total == 0.0 || !(histogram.hi > histogram.lo)) return histogram.lo;
+    double weighted_total = 0.0;
+    for (std::size_t i = 0; i < c.size(); ++i) weighted_total += double(i) * double(c[i]);
+    // Class 0 = bins 0..k. A run of equally good k (empty bins between two peaks) is resolved
+    // to its middle, so a two-valued image is split half-way between its values.
+    double w0 = 0.0, sum0 = 0.0, best = -1.0;
+    std::size_t best_first = 0, best_last = 0;
+    for (std::size_t k = 0; k + 1 < c.size(); ++k) {
+        w0 += double(c[k]);
+        sum0 += double(k) * double(c[k]);
+        const double w1 = total - w0;
+        if (w0 == 0.0) continue;
+        if (w1 == 0.0) break;
+        const double m0 = sum0 / w0, m1 = (weighted_total - sum0) / w1;
+        const double between = w0 * w1 * (m0 - m1) * (m0 - m1);
+        const double tolerance = 1e-12 * std::max(best, 1.0);
+        if (between > best + tolerance) {
+            best = between;
+            best_first = best_last = k;
+        } else if (std::abs(between - best) <= tolerance && best_last + 1 == k) {
+            best_last = k;
+        }
+    }
+    if (best < 0.0) return histogram.lo;
+    const double boundary = 0.5 * double(best_first + best_last) + 1.0;
+    const double value = double(histogram.lo) + boundary * histogram.bin_width();
+    return float(std::clamp(value, double(histogram.lo), double(histogram.hi)));
+}
+
+float suggest_iso(const Volume& volume) {
+    return otsu_threshold(make_histogram(volume, 256));
+}
+
+// ---- NaN / infinity policy -----------------------------------------------------------------
+
+NonFiniteCount apply_nonfinite_policy(Volume& volume, NonFinitePolicy policy,
+                                      const std::string& name) {
+    NonFiniteCount count;
+    for (float v : volume.samples) {
+        if (std::isnan(v))
+            ++count.nan;
+        else if (std::isinf(v))
+            ++(v > 0 ? count.positive_infinity : count.negative_infinity);
+    }
+    if (count.total() == 0) return count;
+    const std::string found = std::to_string(count.nan) + " NaN and " +
+                              std::to_string(count.positive_infinity + count.negative_infinity) +
+                              " infinite samples";
+    if (policy == NonFinitePolicy::Refuse)
+        throw std::runtime_error(name + ": " + found + " (non-finite samples are refused)");
+    if (count.total() == volume.samples.size())
+        throw std::runtime_error(name + ": no finite sample (" + found + ")");
+    const ValueRange range = value_range(volume);
+    for (float& v : volume.samples) {
+        if (std::isnan(v) || v == -std::numeric_limits<float>::infinity())
+            v = range.min;
+        else if (v == std::numeric_limits<float>::infinity())
+            v = range.max;
+    }
+    return count;
+}
+
+// ---- Label maps ---------------------------------------------------------------------------------
+
+namespace {
+
+std::string text(glm::ivec3 v) {
+    return std::to_string(v.x) + "x" + std::to_string(v.y) + "x" + std::to_string(v.z);
+}
+
+std::string text(glm::vec3 v) {
+    std::ostringstream out;
+    out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+    return out.str();
+}
+
+std::string grid_text(const Volume& v) {
+    return "dims " + text(v.dims) + ", spacing " + text(v.spacing) + ", origin " + text(v.origin);
+}
+
+} // namespace
+
+void check_same_grid(const Volume& grey, const std::string& grey_name, const Volume& labels,
+                     const std::string& labels_name) {
+    const float voxel = std::min({grey.spacing.x, grey.spacing.y, grey.spacing.z});
+    const float tolerance = 1e-3f * std::max(voxel, 1e-6f);
+    std::string what;
+    if (grey.dims != labels.dims) {
+        what = "dimensions";
+    } else if (glm::any(glm::greaterThan(glm::abs(grey.spacing - labels.spacing),
+                                         glm::vec3(tolerance)))) {
+        what = "spacing";
+    } else if (glm::length(grey.origin - labels.origin) > tolerance) {
+        what = "origin";
+    } else {
+        for (int c = 0; c < 3; ++c)
+            if (glm::length(grey.direction[c] - labels.direction[c]) > 1e-3f) what = "direction";
+    }
+    if (what.empty()) return;
+    throw std::invalid_argument(labels_name + ": the label map's grid does not match " + grey_name +
+                                " (" + what + " differ): labels have " + grid_text(labels) +
+                                "; the grey image has " + grid_text(grey));
+}
+
+std::vector<int> labels_present(const Volume& labels) {
+    std::set<int> found;
+    for (float v : labels.samples) {
+        if (!std::isfinite(v) || std::abs(v) > 2.0e9f) continue;
+        found.insert(int(std::nearbyint(v)));
+    }
+    return {found.begin(), found.end()};
+}
+
+BoundaryIso boundary_iso(const Volume& grey, const Segmentation& mask) {
+    if (grey.dims != mask.dims || grey.samples.size() != mask.inside.size())
+        throw std::invalid_argument("boundary_iso: the mask's grid " + text(mask.dims) +
+                                    " differs from the grey image's " + text(grey.dims));
+    double inside_sum = 0.0, outside_sum = 0.0;
+    std::size_t pairs = 0;
+    const glm::ivec3 d = grey.dims;
+    const auto visit = [&](std::size_t a, std::size_t b) {
+        if (mask.inside[a] == mask.inside[b]) return;
+        const std::size_t in = mask.inside[a] ? a : b, out = mask.inside[a] ? b : a;
+        inside_sum += double(grey.samples[in]);
+        outside_sum += double(grey.samples[out]);
+        ++pairs;
+    };
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) {
+                const std::size_t i = grey.index(x, y, z);
+                if (x + 1 < d.x) visit(i, grey.index(x + 1, y, z));
+                if (y + 1 < d.y) visit(i, grey.index(x, y + 1, z));
+                if (z + 1 < d.z) visit(i, grey.index(x, y, z + 1));
+            }
+    if (pairs == 0)
+        throw std::invalid_argument("the label's mask has no boundary (it is empty or fills the "
+                                    "whole volume)");
+    BoundaryIso result;
+    result.pairs = pairs;
+    result.inside_mean = inside_sum / double(pairs);
+    result.outside_mean = outside_sum / double(pairs);
+    result.iso = float(0.5 * (result.inside_mean + result.outside_mean));
+    result.inside = result.inside_mean >= result.outside_mean ? InsideIs::Above : InsideIs::Below;
+    return result;
+}
+
+} // namespace snert
