@@ -1,0 +1,31 @@
+# Writes the GLSL files of shaders/ into one C++ header as raw string literals, so the
+# executable needs no shader files at run time. Run as a build step:
+#   cmake -DOUTPUT=<header> -DSOURCES=<a.vert;b.frag;...> -P embed_shaders.cmake
+# Each file becomes `inline constexpr const char* k<Name><Stage>` (mesh.vert -> kMeshVert).
+set(text "// Generated from shaders/ by embed_shaders.cmake at build time. Do not edit.\n")
+string(APPEND text "#pragma once\n\nnamespace snert::render::shaders {\n\n")
+foreach(source IN LISTS SOURCES)
+    get_filename_component(name ${source} NAME_WE)
+    get_filename_component(stage ${source} EXT)
+    string(SUBSTRING ${stage} 1 -1 stage)
+    set(identifier "")
+    foreach(part ${name} ${stage})
+        string(SUBSTRING ${part} 0 1 first)
+        string(TOUPPER ${first} first)
+        string(SUBSTRING ${part} 1 -1 rest)
+        string(APPEND identifier ${first}${rest})
+    endforeach()
+    file(READ ${source} glsl)
+    if(glsl MATCHES "\\)glsl\"")
+        message(FATAL_ERROR "${source} contains the raw-string delimiter )glsl\"")
+    endif()
+    string(APPEND text "inline constexpr const char* k${identifier} = R\"glsl(${glsl})glsl\";\n\n")
+endforeach()
+string(APPEND text "} // namespace snert::render::shaders\n")
+# Only touch the header when it changes, so unrelated builds do not recompile the renderer.
+if(EXISTS ${OUTPUT})
+    file(READ ${OUTPUT} previous)
+endif()
+if(NOT previous STREQUAL text)
+    file(WRITE ${OUTPUT} "${text}")
+endif()

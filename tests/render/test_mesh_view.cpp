@@ -1,0 +1,181 @@
+// Drawing meshes for real on OSMesa: what lands in which pixel for each shading, the
+// wireframe, the image orientation, and the upload checks.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/mesh.h"
+#include "gl_test.h"
+#include "render/mesh_view.h"
+#include "render/target.h"
+
+using namespace snert;
+using namespace snert::render;
+
+namespace {
+
+// A square in the z = 0 plane facing +z, split into two right triangles (quality 0.5 each).
+Mesh square(float half = 1.0f) {
+    Mesh m;
+    m.positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    return m;
+}
+
+// A camera in front of the square (on +z), framing it.
+OrbitCamera camera_on_z(const Mesh& mesh) {
+    OrbitCamera c = frame_bounds(mesh_bounds(mesh), ViewPreset::Top, 1.0f, 0.2f);
+    return c;
+}
+
+glm::ivec3 rgb(const Image& image, int x, int y) {
+    const std::uint8_t* p = image.pixel(x, y);
+    return {p[0], p[1], p[2]};
+}
+
+} // namespace
+
+class MeshViewTest : public GlTest {};
+
+TEST_F(MeshViewTest, ShadingNamesRoundTrip) {
+    for (Shading s : {Shading::Flat, Shading::Smooth, Shading::Quality})
+        EXPECT_EQ(parse_shading(shading_name(s)), s);
+    EXPECT_FALSE(parse_shading("phong").has_value());
+}
+
+TEST_F(MeshViewTest, VertexNormalsPointOutOfACounterClockwiseSquare) {
+    const std::vector<glm::vec3> normals = vertex_normals(square());
+    ASSERT_EQ(normals.size(), 4u);
+    for (const glm::vec3& n : normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);
+    Mesh lonely = square();
+    lonely.positions.push_back({5, 5, 5}); // used by no triangle
+    EXPECT_EQ(vertex_normals(lonely).back(), glm::vec3(0, 0, 1));
+}
+
+TEST_F(MeshViewTest, UploadRejectsBadIndicesAndQualityCounts) {
+    MeshView view;
+    Mesh bad = square();
+    bad.indices.back() = 4;
+    EXPECT_THROW(view.upload(bad), std::invalid_argument);
+    const std::vector<float> one = {0.5f};
+    EXPECT_THROW(view.upload(square(), one), std::invalid_argument);
+    view.upload(square());
+    EXPECT_EQ(view.triangle_count(), 2u);
+    EXPECT_EQ(view.bounds().max, glm::vec3(1, 1, 0));
+}
+
+TEST_F(MeshViewTest, FlatShadingLightsTheMeshOverTheBackdrop) {
+    RenderTarget target(64, 64, 1);
+    MeshRenderer renderer;
+    MeshView view;
+    const Mesh mesh = square();
+    view.upload(mesh);
+    DrawStyle style;
+    style.shading = Shading::Flat;
+    const Viewport all{0, 0, 64, 64};
+    renderer.draw_background(all, style);
+    renderer.draw(view, camera_on_z(mesh), all, style);
+    const Image image = target.read();
+    // The corner shows the backdrop's top colour (image row 0 is the top).
+    const glm::ivec3 corner = rgb(image, 0, 0);
+    EXPECT_NEAR(corner.r, std::lround(style.background_top.r * 255), 3);
+    // The centre shows the surface: lit clay, warmer (red > blue) than the cool backdrop.
+    const glm::ivec3 centre = rgb(image, 32, 32);
+    EXPECT_GT(centre.r, centre.b + 10);
+    EXPECT_GT(centre.r, 120);
+    EXPECT_EQ(image.pixel(32, 32)[3], 255);
+}
+
+TEST_F(MeshViewTest, QualityShadingUsesTheColormapAndTheThreshold) {
+    RenderTarget target(32, 32, 1);
+    MeshRenderer renderer;
+    MeshView view;
+    const Mesh mesh = square();
+    const std::vector<float> best = {1.0f, 1.0f};
+    view.upload(mesh, best);
+    DrawStyle style;
+    style.shading = Shading::Quality;
+    style.quality_threshold = 0.25f;
+    const Viewport all{0, 0, 32, 32};
+    renderer.draw_background(all, style);
+    renderer.draw(view, camera_on_z(mesh), all, style);
+    // q = 1: viridis' yellow end (lit, so only the hue is checked): much red and green, little
+    // blue.
+    glm::ivec3 c = rgb(target.read(), 16, 16);
+    EXPECT_GT(c.r, 150);
+    EXPECT_GT(c.g, 150);
+    EXPECT_LT(c.b, 90);
+
+    const std::vector<float> poor = {0.1f, 0.1f};
+    view.upload(mesh, poor);
+    renderer.draw_background(all, style);
+    renderer.draw(view, camera_on_z(mesh), all, style);
+    // Under the threshold: the highlight red.
+    c = rgb(target.read(), 16, 16);
+    EXPECT_GT(c.r, 150);
+    EXPECT_LT(c.g, 80);
+    EXPECT_LT(c.b, 80);
+}
+
+TEST_F(MeshViewTest, QualityIsLookedUpPerTriangle) {
+    RenderTarget target(64, 64, 1);
+    MeshRenderer renderer;
+    MeshView view;
+    const Mesh mesh = square();
+    // Triangle 0 (below the diagonal from (-1,-1) to (1,1): the lower right) poor, triangle 1 best.
+    const std::vector<float> quality = {0.0f, 1.0f};
+    view.upload(mesh, quality);
+    DrawStyle style;
+    style.shading = Shading::Quality;
+    const Viewport all{0, 0, 64, 64};
+    renderer.draw_background(all, style);
+    renderer.draw(view, camera_on_z(mesh), all, style);
+    const Image image = target.read();
+    // Top view: +x right, +y up in the image. Lower right is triangle 0, upper left triangle 1.
+    const glm::ivec3 lower_right = rgb(image, 44, 44), upper_left = rgb(image, 20, 20);
+    EXPECT_GT(lower_right.r, lower_right.g + 60); // red
+    EXPECT_GT(upper_left.g, upper_left.b + 60);   // yellow
+}
+
+TEST_F(MeshViewTest, WireframeDarkensTheEdges) {
+    RenderTarget target(64, 64, 1);
+    MeshRenderer renderer;
+    MeshView view;
+    const Mesh mesh = square();
+    view.upload(mesh);
+    DrawStyle style;
+    style.shading = Shading::Flat;
+    const Viewport all{0, 0, 64, 64};
+    renderer.draw_background(all, style);
+    renderer.draw(view, camera_on_z(mesh), all, style);
+    const Image plain = target.read();
+    style.wireframe = true;
+    renderer.draw_background(all, style);
+    renderer.draw(view, camera_on_z(mesh), all, style);
+    const Image wired = target.read();
+    // The diagonal edge runs through the centre; a point inside a triangle stays unchanged.
+    EXPECT_LT(rgb(wired, 32, 32).g, rgb(plain, 32, 32).g - 60);
+    EXPECT_EQ(rgb(wired, 45, 45), rgb(plain, 45, 45));
+}
+
+TEST_F(MeshViewTest, ImagesReadBackTopRowFirst) {
+    RenderTarget target(16, 16, 1);
+    MeshRenderer renderer;
+    DrawStyle style;
+    style.background_top = style.background_bottom = glm::vec3(0.0f, 0.0f, 1.0f);
+    glClearColor(1, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    // GL's viewport origin is the bottom-left: this fills the upper half of the picture.
+    renderer.draw_background(Viewport{0, 8, 16, 8}, style);
+    const Image image = target.read();
+    EXPECT_EQ(rgb(image, 3, 2), glm::ivec3(0, 0, 255));
+    EXPECT_EQ(rgb(image, 3, 13), glm::ivec3(255, 0, 0));
+}
+
+TEST_F(MeshViewTest, TargetsRejectImpossibleSizes) {
+    EXPECT_THROW(RenderTarget(0, 10), std::invalid_argument);
+    EXPECT_THROW(RenderTarget(10, 1 << 20), std::invalid_argument);
+    RenderTarget target(10, 12, 64); // samples clamp to what the driver offers
+    EXPECT_GE(target.samples(), 1);
+    EXPECT_EQ(target.read().rgba.size(), 10u * 12u * 4u);
+}
