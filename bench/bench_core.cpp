@@ -22,9 +22,8 @@ const snert::Phantom& sphere(int size) {
 }
 
 void report_voxels(benchmark::State& state, const snert::Volume& volume) {
-    state.counters["Mvoxels/s"] = benchmark::Counter(
-        double(volume.voxel_count()) / 1e6,
-        benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["Mvoxels/s"] = benchmark::Counter(double(volume.voxel_count()) / 1e6,
+                                                     benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_MarchingCubes(benchmark::State& state) {
@@ -54,7 +53,8 @@ void BM_SurfaceNetBuild(benchmark::State& state) {
 
 void BM_RelaxStep(benchmark::State& state) {
     const snert::Phantom& p = sphere(int(state.range(0)));
-    const snert::SurfaceNet net = snert::build_surface_net(snert::segment_threshold(p.volume, p.iso));
+    const snert::SurfaceNet net =
+        snert::build_surface_net(snert::segment_threshold(p.volume, p.iso));
     snert::RelaxOptions options;
     options.iso = p.iso;
     const snert::GreyField grey = snert::make_grey_field(p.volume, options);
@@ -69,7 +69,8 @@ void BM_RelaxStep(benchmark::State& state) {
 
 void BM_Triangulate(benchmark::State& state) {
     const snert::Phantom& p = sphere(int(state.range(0)));
-    const snert::SurfaceNet net = snert::build_surface_net(snert::segment_threshold(p.volume, p.iso));
+    const snert::SurfaceNet net =
+        snert::build_surface_net(snert::segment_threshold(p.volume, p.iso));
     for (auto _ : state) {
         snert::Mesh mesh = snert::triangulate(net, net.positions);
         benchmark::DoNotOptimize(mesh.indices.data());

@@ -75,7 +75,7 @@ float Args::number(const std::string& name, float fallback) const {
 
 std::string Args::choice(const std::string& name, const std::string& fallback,
                          const std::vector<std::string>& choices) const {
-    const std::string v = value_or(name, fallback);
+    std::string v = value_or(name, fallback);
     for (const auto& c : choices)
         if (c == v) return v;
     std::string list;

@@ -16,7 +16,7 @@ struct UsageError : std::runtime_error {
 };
 
 class Args {
-public:
+  public:
     // `options` take a value, `switches` do not. Throws UsageError for an unknown --name or a
     // missing value.
     Args(const std::vector<std::string>& argv, const std::set<std::string>& options,
@@ -36,7 +36,7 @@ public:
     std::string choice(const std::string& name, const std::string& fallback,
                        const std::vector<std::string>& choices) const;
 
-private:
+  private:
     std::vector<std::string> positional_;
     std::map<std::string, std::string> values_;
     std::set<std::string> switches_;

@@ -13,7 +13,9 @@ std::set<std::string> input_options() {
     return names;
 }
 
-std::set<std::string> input_switches() { return {"help"}; }
+std::set<std::string> input_switches() {
+    return {"help"};
+}
 
 Input load_input(const Args& args) {
     if (args.positional().empty())
@@ -23,9 +25,8 @@ Input load_input(const Args& args) {
     const std::string spec = args.positional().front();
     Input input;
     input.name = spec;
-    input.inside = args.choice("inside", "above", {"above", "below"}) == "above"
-                       ? InsideIs::Above
-                       : InsideIs::Below;
+    input.inside = args.choice("inside", "above", {"above", "below"}) == "above" ? InsideIs::Above
+                                                                                 : InsideIs::Below;
     if (const std::string_view name = phantom_spec_name(spec); !name.empty()) {
         Phantom phantom = make_phantom(name, args.integer("size", 64, 8, 1024));
         input.volume = std::move(phantom.volume);
@@ -42,8 +43,9 @@ Input load_input(const Args& args) {
 }
 
 std::set<std::string> pipeline_option_names() {
-    return {"mode",     "iterations", "smoothing-weight", "gradient-weight", "schedule",
-            "constraint", "gradient",  "sigma",            "epsilon",         "triangulation"};
+    return {"mode",     "iterations",   "smoothing-weight", "gradient-weight",
+            "schedule", "constraint",   "gradient",         "sigma",
+            "epsilon",  "triangulation"};
 }
 
 PipelineOptions pipeline_options(const Args& args, const Input& input) {
@@ -52,7 +54,7 @@ PipelineOptions pipeline_options(const Args& args, const Input& input) {
     o.inside = input.inside;
     RelaxOptions& r = o.relax;
     const std::string mode = args.choice("mode", "snert", {"sna", "gradient", "snert"});
-    r.mode = mode == "sna" ? RelaxMode::Averaging
+    r.mode = mode == "sna"        ? RelaxMode::Averaging
              : mode == "gradient" ? RelaxMode::Gradient
                                   : RelaxMode::Snert;
     r.max_iterations = args.integer("iterations", r.max_iterations, 0, 100000);

@@ -15,14 +15,14 @@
 namespace snert::cli {
 
 struct Input {
-    std::string name;                         // "phantom:sphere" or the file path
-    Volume volume;                            // grey values
-    float iso = 0.0f;                         // --iso, or the phantom's / a suggested value
+    std::string name; // "phantom:sphere" or the file path
+    Volume volume;    // grey values
+    float iso = 0.0f; // --iso, or the phantom's / a suggested value
     InsideIs inside = InsideIs::Above;
-    std::optional<Segmentation> labels;       // --labels FILE --label N: the label's mask
-    DistanceFunction reference;               // voxel units
-    bool analytic_reference = false;          // true for phantoms
-    double reference_volume = 0.0;            // voxels^3, 0 when unknown
+    std::optional<Segmentation> labels; // --labels FILE --label N: the label's mask
+    DistanceFunction reference;         // voxel units
+    bool analytic_reference = false;    // true for phantoms
+    double reference_volume = 0.0;      // voxels^3, 0 when unknown
 };
 
 // Options understood by load_input (add them to a command's option set).

@@ -71,8 +71,8 @@ nlohmann::json method_json(const MethodResult& r, const Input& input) {
     j["volume"] = m.volume;
     if (input.reference_volume > 0) {
         // Phantom volumes are in voxels^3; spacing is 1 for phantoms, so world = voxels.
-        j["volume_error_percent"] = 100.0 * (m.volume - input.reference_volume) /
-                                    input.reference_volume;
+        j["volume_error_percent"] =
+            100.0 * (m.volume - input.reference_volume) / input.reference_volume;
     } else {
         j["volume_error_percent"] = nullptr;
     }
@@ -85,16 +85,16 @@ void print_table(std::ostream& out, const std::string& title,
     char line[512];
     out << title << "\n";
     std::snprintf(line, sizeof line, "  %-8s %9s %7s %7s %7s %7s %6s %9s %9s %9s %8s %6s %8s\n",
-                  "method", "triangles", "q", "q_min", "q60", "r_ratio", "degen", "smooth",
-                  "accV", "accF", "vol_err%", "closed", "ms");
+                  "method", "triangles", "q", "q_min", "q60", "r_ratio", "degen", "smooth", "accV",
+                  "accF", "vol_err%", "closed", "ms");
     out << line;
     for (const MethodResult& r : results) {
         const MethodMetrics& m = r.metrics;
         auto acc = [&](bool faces) {
             if (!m.accuracy) return std::string("-");
             char b[32];
-            std::snprintf(b, sizeof b, "%.2e", faces ? m.accuracy->faces_mean
-                                                     : m.accuracy->vertices_mean);
+            std::snprintf(b, sizeof b, "%.2e",
+                          faces ? m.accuracy->faces_mean : m.accuracy->vertices_mean);
             return std::string(b);
         };
         std::string volume_error = "-";

@@ -59,7 +59,7 @@ std::string format_number(double value) {
 
 // The net's title: the method, and the iteration when one was asked for.
 std::string net_title(const std::string& method, const Args& args, int iteration) {
-    const std::string name = render::method_display_name(method);
+    std::string name = render::method_display_name(method);
     if (!args.has("iteration")) return name;
     if (iteration == 0) return name + ", initial net";
     return name + ", iteration " + std::to_string(iteration);
@@ -155,6 +155,7 @@ int run_render(const std::vector<std::string>& argv) {
                                      " is empty (the volume is all inside or all outside)");
 
     std::vector<render::FigureMethod> methods;
+    methods.reserve(results.size());
     for (const MethodResult& r : results)
         methods.push_back({r.name, r.name == "mc" ? "" : net_title(r.name, args, iteration),
                            &r.mesh, &r.metrics});

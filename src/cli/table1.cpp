@@ -42,10 +42,11 @@ int run_table1(const std::vector<std::string>& argv) {
         print_table(std::cout, input.name + " " + std::to_string(size) + "^3", results, input);
         std::cout << "\n";
     }
-    std::cout << "q = smallest/largest angle (paper), q60 = smallest angle/60 deg, r_ratio = 2r/R;\n"
-                 "smooth = mean |2pi - angle sum| (rad); accV/accF = mean distance of vertices /"
-                 " face centres\nto the exact surface (voxels); vol_err = enclosed volume vs the"
-                 " exact one.\n";
+    std::cout
+        << "q = smallest/largest angle (paper), q60 = smallest angle/60 deg, r_ratio = 2r/R;\n"
+           "smooth = mean |2pi - angle sum| (rad); accV/accF = mean distance of vertices /"
+           " face centres\nto the exact surface (voxels); vol_err = enclosed volume vs the"
+           " exact one.\n";
     if (auto path = args.value("json")) write_json(*path, json);
     return 0;
 }

@@ -19,7 +19,8 @@ namespace snert {
 // std::runtime_error naming `path` and the reason (folder missing, not writable, disk full,
 // the stream left in a failed state by `write`); the temporary file is removed on failure and
 // the target is left untouched. An exception thrown by `write` is passed on unchanged.
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+void write_file_atomically(const std::string& path,
+                           const std::function<void(std::ostream&)>& write);
 
 // Same, for a producer that writes to a path itself (a C library): it gets the temporary path,
 // which already exists (empty) and may be overwritten. The producer reports failure by throwing

@@ -882,7 +882,7 @@ class PlyReader {
     std::size_t list_count(const PlyProperty& p) {
         const double n = value(p.count_type);
         const std::size_t item = encoding_ == Encoding::Ascii ? 2 : ply_size(p.type);
-        if (!(n >= 0) || n != std::floor(n) || n > double(remaining() / item))
+        if (!(n >= 0) || n != std::floor(n) || n > double(remaining()) / double(item))
             fail("bad list length " + std::to_string(n) + " of property " + p.name);
         return std::size_t(n);
     }

@@ -115,13 +115,13 @@ Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance);
 // cells, and stops once no unvisited cell can hold anything nearer: never all pairs.
 // Build once, query many times; queries are const and thread-safe; copies share the grid.
 class MeshDistance {
-public:
+  public:
     // Throws std::invalid_argument when `reference` has no triangles or a bad index.
     explicit MeshDistance(const Mesh& reference);
     // Distance to the nearest point of any triangle; NaN for a non-finite point.
     float operator()(glm::vec3 p) const;
 
-private:
+  private:
     struct Impl;
     std::shared_ptr<const Impl> impl_;
 };

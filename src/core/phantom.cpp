@@ -21,16 +21,17 @@ template <class F> Volume fill(int size, F f) {
     return v;
 }
 
-glm::dvec3 centre_of(int size) { return glm::dvec3((size - 1) * 0.5); }
+glm::dvec3 centre_of(int size) {
+    return glm::dvec3((size - 1) * 0.5);
+}
 
 Phantom sphere(int size, std::string name) {
     const glm::dvec3 c = centre_of(size);
     const double r = 0.35 * size;
     Phantom p;
     p.name = std::move(name);
-    p.volume = fill(size, [&](int x, int y, int z) {
-        return r - glm::length(glm::dvec3(x, y, z) - c);
-    });
+    p.volume =
+        fill(size, [&](int x, int y, int z) { return r - glm::length(glm::dvec3(x, y, z) - c); });
     p.reference_distance = [c, r](glm::vec3 q) {
         return float(std::abs(glm::length(glm::dvec3(q) - c) - r));
     };
@@ -121,8 +122,7 @@ std::vector<std::string> phantom_names() {
 
 Phantom make_phantom(std::string_view name, int size, unsigned seed) {
     if (size < 8 || size > 1024)
-        throw std::invalid_argument("phantom size " + std::to_string(size) +
-                                    " is outside 8..1024");
+        throw std::invalid_argument("phantom size " + std::to_string(size) + " is outside 8..1024");
     if (name == "plane") {
         const float c = float(size - 1) * 0.5f;
         return make_plane_phantom(size, {1, 2, 3}, glm::vec3(c));

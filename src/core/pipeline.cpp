@@ -17,9 +17,12 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 const char* method_name(RelaxMode mode) {
     switch (mode) {
-    case RelaxMode::Averaging: return "sna";
-    case RelaxMode::Gradient: return "gradient";
-    case RelaxMode::Snert: return "snert";
+    case RelaxMode::Averaging:
+        return "sna";
+    case RelaxMode::Gradient:
+        return "gradient";
+    case RelaxMode::Snert:
+        return "snert";
     }
     return "snert";
 }

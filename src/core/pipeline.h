@@ -25,9 +25,9 @@
 namespace snert {
 
 struct PipelineOptions {
-    float iso = 0.0f;                   // Marching Cubes' iso (0.5 on a label mask)
+    float iso = 0.0f; // Marching Cubes' iso (0.5 on a label mask)
     InsideIs inside = InsideIs::Above;
-    RelaxOptions relax;                 // relax.iso: the grey iso of the gradient term (eq. 3)
+    RelaxOptions relax; // relax.iso: the grey iso of the gradient term (eq. 3)
     TriangulationRule triangulation = TriangulationRule::ShorterDiagonal;
 };
 
@@ -35,15 +35,15 @@ struct MethodMetrics {
     std::size_t vertices = 0, triangles = 0;
     QualityStats quality;
     double smoothness = 0;
-    std::optional<Accuracy> accuracy;   // voxel units; empty where no reference exists
+    std::optional<Accuracy> accuracy; // voxel units; empty where no reference exists
     Topology topology;
-    double area = 0, volume = 0;        // world units
-    double ms = 0;                      // time to build the mesh
+    double area = 0, volume = 0; // world units
+    double ms = 0;               // time to build the mesh
 };
 
 struct MethodResult {
-    std::string name;                   // "mc", "sna", "gradient", "snert"
-    Mesh mesh;                          // world units
+    std::string name; // "mc", "sna", "gradient", "snert"
+    Mesh mesh;        // world units
     MethodMetrics metrics;
 };
 

@@ -16,8 +16,8 @@ struct Cancelled : std::exception {
 };
 
 struct Progress {
-    std::stop_token stop;                         // cancellation request (default: never)
-    std::function<void(float fraction)> report;   // called with 0..1; must be thread-safe
+    std::stop_token stop;                       // cancellation request (default: never)
+    std::function<void(float fraction)> report; // called with 0..1; must be thread-safe
 
     void update(float fraction) const {
         if (stop.stop_requested()) throw Cancelled();

@@ -91,18 +91,18 @@ float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
     // Jacobi: every node reads only old positions, so chunks of nodes run independently.
     constexpr std::size_t kChunk = 4096;
     std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
-    for_each_chunk(old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin,
-                                                     std::size_t end) {
-        float local = 0.0f;
-        for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 move = node_move(net, grey, options, old_positions,
-                                             std::uint32_t(i), smoothing, gradient);
-            new_positions[i] =
-                constrain_move(old_positions[i], move, net.cells[i], options.constraint);
-            local = std::max(local, glm::length(new_positions[i] - old_positions[i]));
-        }
-        chunk_max[chunk] = local;
-    });
+    for_each_chunk(
+        old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+            float local = 0.0f;
+            for (std::size_t i = begin; i < end; ++i) {
+                const glm::vec3 move = node_move(net, grey, options, old_positions,
+                                                 std::uint32_t(i), smoothing, gradient);
+                new_positions[i] =
+                    constrain_move(old_positions[i], move, net.cells[i], options.constraint);
+                local = std::max(local, glm::length(new_positions[i] - old_positions[i]));
+            }
+            chunk_max[chunk] = local;
+        });
     if (chunk_max.empty()) return 0.0f;
     return *std::max_element(chunk_max.begin(), chunk_max.end());
 }
@@ -126,8 +126,10 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constrain
     // keeps its direction of motion and stops on the cell boundary.
     float t = 1.0f;
     for (int a = 0; a < 3; ++a) {
-        if (move[a] > 0.0f) t = std::min(t, (hi[a] - p[a]) / move[a]);
-        else if (move[a] < 0.0f) t = std::min(t, (lo[a] - p[a]) / move[a]);
+        if (move[a] > 0.0f)
+            t = std::min(t, (hi[a] - p[a]) / move[a]);
+        else if (move[a] < 0.0f)
+            t = std::min(t, (lo[a] - p[a]) / move[a]);
     }
     t = std::max(t, 0.0f);
     // Rounding can put the end point a hair outside; clamping only removes that hair.

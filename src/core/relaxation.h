@@ -33,23 +33,23 @@ enum class GradientMethod { Central, Gaussian };
 
 struct RelaxOptions {
     RelaxMode mode = RelaxMode::Snert;
-    float smoothing_weight = 1.0f;      // weight of the averaging term (eq. 1 / eq. 5)
-    float gradient_weight = 1.0f;       // weight of the gradient term d g (eq. 4 / eq. 6)
+    float smoothing_weight = 1.0f; // weight of the averaging term (eq. 1 / eq. 5)
+    float gradient_weight = 1.0f;  // weight of the gradient term d g (eq. 4 / eq. 6)
     Schedule schedule = Schedule::Simultaneous;
-    bool favour_accuracy = true;        // SmoothingFirst: end each iteration with the gradient term
+    bool favour_accuracy = true; // SmoothingFirst: end each iteration with the gradient term
     Constraint constraint = Constraint::RayBox;
     GradientMethod gradient = GradientMethod::Central;
-    float gradient_sigma = 1.0f;        // voxels, for GradientMethod::Gaussian
-    float iso = 0.0f;                   // Iiso of eq. 3
-    int max_iterations = 20;            // stop after this many iterations
-    float epsilon = 1e-4f;              // ... or when the largest move (voxels) falls under this
+    float gradient_sigma = 1.0f; // voxels, for GradientMethod::Gaussian
+    float iso = 0.0f;            // Iiso of eq. 3
+    int max_iterations = 20;     // stop after this many iterations
+    float epsilon = 1e-4f;       // ... or when the largest move (voxels) falls under this
 };
 
 // What the gradient term needs: the grey volume, and the gradient field when precomputed.
 // Build it once per volume and options with make_grey_field.
 struct GreyField {
     const Volume* volume = nullptr;
-    GradientField gradient;             // empty: central differences on the fly
+    GradientField gradient; // empty: central differences on the fly
     float iso = 0.0f;
 };
 GreyField make_grey_field(const Volume& volume, const RelaxOptions& options);
@@ -64,8 +64,8 @@ float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOption
                  std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions);
 
 struct RelaxIteration {
-    int iteration = 0;   // 1 for the first iteration
-    float max_move = 0;  // largest node move in this iteration (voxels)
+    int iteration = 0;  // 1 for the first iteration
+    float max_move = 0; // largest node move in this iteration (voxels)
 };
 
 // Called after every iteration with the new positions; return false to stop early.
@@ -74,8 +74,8 @@ using IterationCallback =
 
 struct RelaxResult {
     std::vector<glm::vec3> positions;
-    std::vector<float> max_moves;        // per iteration
-    bool converged = false;              // stopped because max move < epsilon
+    std::vector<float> max_moves; // per iteration
+    bool converged = false;       // stopped because max move < epsilon
 };
 
 // Runs iterations until max_iterations or convergence. `grey` may be null for Averaging.

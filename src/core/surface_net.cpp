@@ -74,7 +74,7 @@ bool face_is_mixed(const Segmentation& s, glm::ivec3 c, int axis) {
 }
 
 class NodeIndex {
-public:
+  public:
     NodeIndex(const SurfaceNet& net, std::vector<std::uint32_t> row_offsets)
         : net_(net), row_offsets_(std::move(row_offsets)) {}
 
@@ -88,7 +88,7 @@ public:
         return std::uint32_t(it - net_.cells.begin());
     }
 
-private:
+  private:
     const SurfaceNet& net_;
     std::vector<std::uint32_t> row_offsets_;
 };
@@ -153,7 +153,8 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
     };
     for_each_link([&](std::uint32_t a, std::uint32_t b) { ++degree[a], ++degree[b]; });
     net.link_offsets.assign(nodes + 1, 0);
-    for (std::size_t i = 0; i < nodes; ++i) net.link_offsets[i + 1] = net.link_offsets[i] + degree[i];
+    for (std::size_t i = 0; i < nodes; ++i)
+        net.link_offsets[i + 1] = net.link_offsets[i] + degree[i];
     net.links.resize(net.link_offsets[nodes]);
     std::vector<std::uint32_t> cursor(net.link_offsets.begin(), net.link_offsets.end() - 1);
     for_each_link([&](std::uint32_t a, std::uint32_t b) {

@@ -22,12 +22,12 @@
 namespace snert {
 
 struct SurfaceNet {
-    glm::ivec3 cell_dims{0};                          // cells per axis: segmentation dims - 1
-    std::vector<glm::ivec3> cells;                    // cell (lowest corner) of each node
-    std::vector<glm::vec3> positions;                 // initial node positions: cell centres
-    std::vector<std::uint32_t> link_offsets;          // CSR: links of node i are
-    std::vector<std::uint32_t> links;                 //   links[link_offsets[i] .. [i + 1])
-    std::vector<std::array<std::uint32_t, 4>> quads;  // node ids, counter-clockwise from outside
+    glm::ivec3 cell_dims{0};                         // cells per axis: segmentation dims - 1
+    std::vector<glm::ivec3> cells;                   // cell (lowest corner) of each node
+    std::vector<glm::vec3> positions;                // initial node positions: cell centres
+    std::vector<std::uint32_t> link_offsets;         // CSR: links of node i are
+    std::vector<std::uint32_t> links;                //   links[link_offsets[i] .. [i + 1])
+    std::vector<std::array<std::uint32_t, 4>> quads; // node ids, counter-clockwise from outside
 
     std::size_t node_count() const { return cells.size(); }
     std::size_t link_count() const { return links.size() / 2; }

@@ -94,9 +94,8 @@ float sample_trilinear(const Volume& volume, glm::vec3 p) {
 }
 
 glm::vec3 gradient_central(const Volume& volume, glm::vec3 p) {
-    return trilinear<glm::vec3>(volume.dims, p, [&](int x, int y, int z) {
-        return central_difference(volume, x, y, z);
-    });
+    return trilinear<glm::vec3>(
+        volume.dims, p, [&](int x, int y, int z) { return central_difference(volume, x, y, z); });
 }
 
 glm::vec3 sample_trilinear(const GradientField& field, glm::vec3 p) {
@@ -120,8 +119,9 @@ namespace {
 void convolve_axis(const std::vector<float>& in, std::vector<float>& out, glm::ivec3 dims, int axis,
                    const std::vector<float>& kernel) {
     const int radius = int(kernel.size() / 2);
-    const std::size_t stride = axis == 0 ? 1 : axis == 1 ? std::size_t(dims.x)
-                                                         : std::size_t(dims.x) * dims.y;
+    const std::size_t stride = axis == 0   ? 1
+                               : axis == 1 ? std::size_t(dims.x)
+                                           : std::size_t(dims.x) * dims.y;
     const int n = dims[axis];
     for (int z = 0; z < dims.z; ++z)
         for (int y = 0; y < dims.y; ++y)
@@ -130,9 +130,9 @@ void convolve_axis(const std::vector<float>& in, std::vector<float>& out, glm::i
                 const std::size_t here = (std::size_t(z) * dims.y + y) * dims.x + x;
                 const std::size_t line = here - std::size_t(p[axis]) * stride;
                 float sum = 0.0f;
-                for (int k = -radius; k <= radius; ++k) {
-                    const int q = std::clamp(p[axis] + k, 0, n - 1);
-                    sum += kernel[std::size_t(k + radius)] * in[line + std::size_t(q) * stride];
+                for (std::size_t i = 0; i < kernel.size(); ++i) {
+                    const int q = std::clamp(p[axis] + int(i) - radius, 0, n - 1);
+                    sum += kernel[i] * in[line + std::size_t(q) * stride];
                 }
                 out[here] = sum;
             }
@@ -145,17 +145,18 @@ GradientField gradient_field_gaussian(const Volume& volume, float sigma) {
     const int radius = std::max(1, int(std::ceil(3.0f * sigma)));
     std::vector<float> smooth(std::size_t(2 * radius + 1)), derivative(smooth.size());
     float sum = 0.0f, moment = 0.0f;
-    for (int k = -radius; k <= radius; ++k) {
-        const float w = std::exp(-0.5f * float(k * k) / (sigma * sigma));
-        smooth[std::size_t(k + radius)] = w;
-        sum += w;
+    for (std::size_t i = 0; i < smooth.size(); ++i) {
+        const float k = float(int(i) - radius);
+        smooth[i] = std::exp(-0.5f * k * k / (sigma * sigma));
+        sum += smooth[i];
     }
     for (auto& w : smooth) w /= sum;
     // Derivative kernel k * G(k) / sum(k^2 G(k)): returns slope 1 on a unit ramp, since
     // convolve_axis sums kernel[k] * f(x + k) without flipping.
-    for (int k = -radius; k <= radius; ++k) {
-        derivative[std::size_t(k + radius)] = float(k) * smooth[std::size_t(k + radius)];
-        moment += float(k * k) * smooth[std::size_t(k + radius)];
+    for (std::size_t i = 0; i < smooth.size(); ++i) {
+        const float k = float(int(i) - radius);
+        derivative[i] = k * smooth[i];
+        moment += k * k * smooth[i];
     }
     for (auto& w : derivative) w /= moment;
 

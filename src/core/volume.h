@@ -16,11 +16,11 @@
 namespace snert {
 
 struct Volume {
-    glm::ivec3 dims{0};              // samples along x, y, z
-    glm::vec3 spacing{1.0f};         // world distance between neighbouring samples, per axis
-    glm::vec3 origin{0.0f};          // world position of sample (0, 0, 0)
-    glm::mat3 direction{1.0f};       // columns: world direction of the x, y, z index axes
-    std::vector<float> samples;      // dims.x * dims.y * dims.z values, x fastest
+    glm::ivec3 dims{0};         // samples along x, y, z
+    glm::vec3 spacing{1.0f};    // world distance between neighbouring samples, per axis
+    glm::vec3 origin{0.0f};     // world position of sample (0, 0, 0)
+    glm::mat3 direction{1.0f};  // columns: world direction of the x, y, z index axes
+    std::vector<float> samples; // dims.x * dims.y * dims.z values, x fastest
 
     std::size_t voxel_count() const {
         return std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);

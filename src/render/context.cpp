@@ -74,7 +74,6 @@ std::string egl_error_text() {
     return std::string("EGL error ") + code;
 }
 
-
 class EglContext final : public GlContext {
   public:
     explicit EglContext(GlVersion version) {

@@ -127,7 +127,8 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality) {
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 2 * sizeof(glm::vec3), nullptr);
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 2 * sizeof(glm::vec3),
-                          reinterpret_cast<const void*>(sizeof(glm::vec3)));
+                          reinterpret_cast<const void*>(
+                              sizeof(glm::vec3))); // NOLINT(performance-no-int-to-ptr): GL offset
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(std::uint32_t)),
                  mesh.indices.data(), GL_STATIC_DRAW);

@@ -226,7 +226,9 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
     auto y_of = [&](double v) { return float(plot_bottom - v / y_max * (plot_bottom - plot_top)); };
 
     // Grid and y ticks.
-    for (double v = 0.0; v <= y_max + 1e-9; v += step) {
+    const int ticks = int(std::floor(y_max / step + 1e-9));
+    for (int tick = 0; tick <= ticks; ++tick) {
+        const double v = tick * step;
         const float y = std::round(y_of(v));
         draw->AddLine(ImVec2(plot_left, y), ImVec2(plot_right, y), v == 0.0 ? kAxis : kGrid);
         const std::string label = format("%g", v);

@@ -48,8 +48,8 @@ TEST(Constraint, RayBoxShortensAlongTheMove) {
     const glm::vec3 c = constrain_move(p, {1.0f, 0.25f, 0.0f}, glm::ivec3(0), Constraint::Clip);
     EXPECT_NEAR(c.x, 1.0f, 1e-6f);
     EXPECT_NEAR(c.y, 0.75f, 1e-6f); // clipping keeps the full y move
-    const glm::vec3 inside = constrain_move(p, {0.1f, -0.2f, 0.3f}, glm::ivec3(0),
-                                            Constraint::RayBox);
+    const glm::vec3 inside =
+        constrain_move(p, {0.1f, -0.2f, 0.3f}, glm::ivec3(0), Constraint::RayBox);
     EXPECT_NEAR(glm::distance(inside, p + glm::vec3(0.1f, -0.2f, 0.3f)), 0.0f, 1e-6f);
     EXPECT_EQ(constrain_move(p, {NAN, 0, 0}, glm::ivec3(0), Constraint::RayBox), p);
 }
@@ -133,8 +133,8 @@ TEST(Relaxation, JacobiUpdateUsesOldPositionsOnly) {
         const auto n = net.link_offsets[i + 1] - net.link_offsets[i];
         for (auto k = net.link_offsets[i]; k < net.link_offsets[i + 1]; ++k)
             mean += net.positions[net.links[k]];
-        const glm::vec3 expected = constrain_move(net.positions[i], mean / float(n) - net.positions[i],
-                                                  net.cells[i], Constraint::RayBox);
+        const glm::vec3 expected = constrain_move(
+            net.positions[i], mean / float(n) - net.positions[i], net.cells[i], Constraint::RayBox);
         ASSERT_NEAR(glm::distance(next[i], expected), 0.0f, 1e-5f) << i;
     }
 }
@@ -159,9 +159,8 @@ TEST(Relaxation, StopsAtEpsilonAndReportsEveryIteration) {
     EXPECT_EQ(std::size_t(calls), r.max_moves.size());
     EXPECT_LT(r.max_moves.back(), 1e-3f);
     // Returning false from the callback stops at once.
-    const RelaxResult stopped = relax(net, &grey, o, [](const RelaxIteration& it, auto) {
-        return it.iteration < 3;
-    });
+    const RelaxResult stopped =
+        relax(net, &grey, o, [](const RelaxIteration& it, auto) { return it.iteration < 3; });
     EXPECT_EQ(stopped.max_moves.size(), 3u);
 }
 

@@ -16,7 +16,9 @@ Segmentation empty_segmentation(glm::ivec3 dims) {
     return {dims, std::vector<std::uint8_t>(std::size_t(dims.x) * dims.y * dims.z, 0)};
 }
 
-void set_inside(Segmentation& s, int x, int y, int z) { s.inside[s.index(x, y, z)] = 1; }
+void set_inside(Segmentation& s, int x, int y, int z) {
+    s.inside[s.index(x, y, z)] = 1;
+}
 
 bool linked(const SurfaceNet& net, std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t k = net.link_offsets[a]; k < net.link_offsets[a + 1]; ++k)
@@ -59,8 +61,8 @@ TEST(SurfaceNet, BoxHasExactCounts) {
                 for (int x = 2; x < 2 + k; ++x) set_inside(s, x, y, z);
         const SurfaceNet net = build_surface_net(s);
         EXPECT_EQ(net.quads.size(), std::size_t(6 * k * k)) << k;
-        EXPECT_EQ(net.node_count(), std::size_t((k + 1) * (k + 1) * (k + 1) -
-                                                (k - 1) * (k - 1) * (k - 1)))
+        EXPECT_EQ(net.node_count(),
+                  std::size_t((k + 1) * (k + 1) * (k + 1) - (k - 1) * (k - 1) * (k - 1)))
             << k;
         const Mesh mesh = triangulate(net, net.positions);
         const Topology t = topology(mesh);

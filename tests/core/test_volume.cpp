@@ -24,8 +24,8 @@ Volume linear_ramp(glm::ivec3 dims) {
 
 TEST(Volume, TrilinearIsExactOnLinearField) {
     const Volume v = linear_ramp({6, 5, 4});
-    for (glm::vec3 p : {glm::vec3(0.25f, 1.5f, 2.75f), glm::vec3(4.9f, 3.1f, 0.0f),
-                        glm::vec3(5.0f, 4.0f, 3.0f)})
+    for (glm::vec3 p :
+         {glm::vec3(0.25f, 1.5f, 2.75f), glm::vec3(4.9f, 3.1f, 0.0f), glm::vec3(5.0f, 4.0f, 3.0f)})
         EXPECT_NEAR(sample_trilinear(v, p), 2 * p.x - 3 * p.y + 0.5f * p.z + 7, 1e-4f);
 }
 
