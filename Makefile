@@ -3,6 +3,7 @@ JOBS ?= $(shell nproc)
 RELEASE := build/release
 TEST := build/test
 FUZZ_SECONDS ?= 60
+TSAN := build/tsan
 
 .PHONY: setup run test bench fuzz format clean
 
@@ -21,6 +22,11 @@ test: setup
 	cmake --build $(TEST) -j $(JOBS)
 	cd $(TEST) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 		ctest --output-on-failure -j $(JOBS)
+	@# The app's background worker under ThreadSanitizer: its test binary only (no GL).
+	cmake -S . -B $(TSAN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNERT_SANITIZE=thread \
+		-DSNERT_BUILD_BENCH=OFF
+	cmake --build $(TSAN) --target snert_app_worker_tests -j $(JOBS)
+	TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" $(TSAN)/tests/app/snert_app_worker_tests
 
 bench: release
 	$(RELEASE)/snert_bench --benchmark_counters_tabular=true

@@ -1,0 +1,205 @@
+// The interactive app: Marching Cubes and the relaxed SurfaceNet side by side, the parameters
+// that make them, and the relaxation's iterations to step through.
+//
+// Screen (all panels are parts of one window; the splitters between them can be dragged):
+//
+//   File  View  Phantoms  Help                                                   menu bar
+//   +-------------+------------------------------------------------------------+
+//   | Volume      |  shading / wireframe / camera presets                 toolbar |
+//   |  open, info |  +-------------------------+-------------------------+        |
+//   | Iso value   |  | Marching Cubes          | SNERT, iteration k      |  titles|
+//   |  histogram  |  |      view               |      view     [legend]  |  views |
+//   | Relaxation  |  +-------------------------+-------------------------+        |
+//   |  parameters |  |< < [play] > >|  ----slider----  k / n   [Run to convergence] |
+//   | Progress    |  +-----------------------------------------------------------+ |
+//   |  per stage  |  | [Quality & metrics] [Convergence]  histograms | table / plots |
+//   +-------------+------------------------------------------------------------+
+//   status line
+//
+// App holds the UI state and draws one ImGui frame per call to frame(); the platform glue
+// (window.h: a GLFW window; headless.h: an offscreen context for tests) owns the GL and ImGui
+// contexts and the frame loop. The computation runs in the background Worker; frame() drains
+// its results once and never waits for it. The 3D views are drawn into offscreen targets only
+// when something they show changed.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "job_results.h"
+#include "render/camera.h"
+#include "render/fonts.h"
+#include "render/image.h"
+#include "render/mesh_view.h"
+#include "settings.h"
+#include "shortcuts.h"
+#include "worker.h"
+
+namespace snert::app {
+
+class ViewRenderer;
+
+struct AppOptions {
+    std::string input;               // "phantom:NAME" or a volume file; empty: the saved one
+    std::optional<int> phantom_size; // size of a phantom input; empty: the saved size
+    std::string settings_path;       // read at start, written by save_settings(); empty: none
+    bool show_timings = true;        // false: no wall-clock times on screen (snapshot tests)
+    float content_scale = 1.0f;      // the monitor's scale (HiDPI): multiplies the text size
+};
+
+// A rectangle in window pixels, origin at the top-left.
+struct UiRect {
+    float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    float width() const { return x1 - x0; }
+    float height() const { return y1 - y0; }
+    float centre_x() const { return 0.5f * (x0 + x1); }
+    float centre_y() const { return 0.5f * (y0 + y1); }
+};
+
+// A screenshot the glue takes after rendering the frame: `region` of the window (the views
+// with their titles), saved as a PNG at `path`.
+struct ScreenshotRequest {
+    std::string path;
+    UiRect region;
+};
+
+class App {
+  public:
+    // Needs a current GL context (loaded) and a current ImGui context whose font atlas has not
+    // been built yet: adds the fonts (render/fonts.h) at `ui_scale` and sets the style.
+    explicit App(AppOptions options);
+    ~App();
+    App(const App&) = delete;
+    App& operator=(const App&) = delete;
+
+    // One frame of UI: call between ImGui::NewFrame and ImGui::Render, GL context current.
+    // May draw into the app's offscreen view targets; the glue binds its own framebuffer
+    // before rendering ImGui's draw data.
+    void frame();
+
+    // --- Actions (menus, buttons, shortcuts, drag-and-drop and tests all come here) ---
+    void open(const VolumeSpec& spec);
+    void open_path(const std::string& path);             // a file or DICOM folder
+    void on_drop(const std::vector<std::string>& paths); // opens the first one
+    void perform(Action action);
+    void show_iteration(int k); // pin the right view to iteration k (clamped)
+    void step(int delta);       // +/- iterations from the one shown
+    void follow_live();         // show the newest iteration and keep following
+    void set_playing(bool playing);
+    void run_to_convergence();
+    void reset_camera();
+    // Replaces the parameters; a change restarts the computation at the next frame.
+    void set_parameters(const Parameters& parameters);
+    void request_screenshot(const std::string& path);
+    // Writes the shown meshes as <base>-mc.<format> and <base>-<method>-<k>.<format>;
+    // returns the files written. Throws std::runtime_error naming a file that failed.
+    std::vector<std::string> export_meshes(const std::string& base, const std::string& format);
+
+    // --- State for the glue and the tests ---
+    const Settings& settings() const { return settings_; }
+    Settings& settings() { return settings_; }
+    const JobResults& results() const { return results_; }
+    const Worker& worker() const { return *worker_; }
+    int shown_iteration() const; // the iteration the slider shows
+    bool following() const { return following_; }
+    bool playing() const { return playing_; }
+    bool quit_requested() const { return quit_requested_; }
+    bool help_open() const { return help_open_; }
+    const render::OrbitCamera& camera() const { return camera_; }
+    // How often the 3D views were redrawn (they are redrawn only when something changed).
+    int view_render_count() const;
+    render::DrawStyle draw_style() const;
+    // True while something is changing (a job, playback, a frame on its way): keep drawing
+    // frames; otherwise the glue may sleep until the next input event.
+    bool animating() const;
+    // The rectangle a named widget had in the last frame ("step_forward", "step_back",
+    // "play", "iteration_slider", "run_to_convergence", "views", "iso_slider", ...).
+    std::optional<UiRect> widget_rect(const std::string& id) const;
+    std::optional<ScreenshotRequest> take_screenshot_request();
+    // Crops the rendered window (`window_image`, framebuffer pixels, `scale` per window pixel)
+    // to the request's region and writes the PNG; reports the outcome in the status line.
+    // Returns false (with the reason in notices()) when the file could not be written.
+    bool save_screenshot(const render::Image& window_image, const ScreenshotRequest& request,
+                         float scale);
+    // The one-line status under the panels ("two-spheres 64^3 - SNERT - converged ...").
+    std::string status_text() const;
+    // Saves the settings (with the glue's window geometry already stored in settings()).
+    void save_settings() const;
+    // Messages for the user (screenshot saved, export failed...), newest last.
+    const std::vector<std::string>& notices() const { return notices_; }
+    // The text of the Open field (tests of its completion).
+    const std::string& open_field_text() const { return open_path_text_; }
+
+  private:
+    // Frame parts (app.cpp, app_panels.cpp, app_views.cpp, app_menus.cpp).
+    void drain_worker();
+    void restart_if_changed();
+    void advance_playback(float dt);
+    void handle_shortcuts();
+    void draw_menu_bar();
+    void draw_side_panel();
+    void draw_volume_section();
+    void draw_iso_section();
+    void draw_relaxation_section();
+    void draw_progress_section();
+    void draw_main_area(float width, float height);
+    void draw_toolbar();
+    void draw_views(float width, float height);
+    void draw_iteration_bar();
+    void draw_bottom_panel(float height);
+    void draw_quality_tab();
+    void draw_convergence_tab();
+    void draw_status_bar();
+    void draw_help_window();
+    void draw_dialogs();
+    void handle_view_input(const UiRect& area);
+    void record(const std::string& id); // the last item's rectangle under `id`
+    void notice(std::string text);
+    void frame_camera_if_needed();
+    std::string default_output_base() const;
+
+    AppOptions options_;
+    Settings settings_;
+    render::FigureFonts fonts_;
+    std::unique_ptr<Worker> worker_;
+    std::unique_ptr<ViewRenderer> views_;
+    JobResults results_;
+    Parameters requested_; // what the worker was last asked for
+    bool requested_once_ = false;
+
+    // Iterations.
+    bool following_ = true;    // the right view follows the newest iteration
+    int pinned_iteration_ = 0; // the chosen iteration when not following
+    bool playing_ = false;
+    float play_clock_ = 0.0f;             // seconds accumulated towards the next iteration
+    bool converge_when_finished_ = false; // "run to convergence" pressed while still running
+
+    // Camera.
+    render::OrbitCamera camera_;
+    std::string framed_for_; // the volume the camera was last framed on
+    bool camera_needs_framing_ = true;
+    float view_aspect_ = 1.0f;
+
+    // Panels and dialogs.
+    std::string open_path_text_;
+    std::vector<std::string> completions_;
+    bool focus_open_field_ = false;
+    bool help_open_ = false;
+    bool screenshot_dialog_ = false, export_dialog_ = false;
+    std::string screenshot_path_, export_base_;
+    int export_format_ = 0;
+    bool quit_requested_ = false;
+    std::optional<ScreenshotRequest> screenshot_request_;
+    bool screenshot_pending_ = false;
+    std::string screenshot_pending_path_;
+    std::vector<std::string> notices_;
+    float notice_timer_ = 0.0f;
+    bool tab_restored_ = false; // the saved bottom tab was selected
+    std::map<std::string, UiRect> rects_;
+    UiRect views_rect_; // views + titles, for screenshots
+};
+
+} // namespace snert::app

@@ -1,0 +1,289 @@
+// The main area: the toolbar, the two linked 3D views with their titles, and the iteration bar.
+#include "app.h"
+
+#include "render/gl.h" // glad first
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <imgui.h>
+
+#include "render/panels.h"
+#include "view_renderer.h"
+
+namespace snert::app {
+
+namespace {
+
+constexpr ImU32 kHint = IM_COL32(80, 86, 96, 255);
+
+// The title a view shows above it.
+std::string net_title(const DisplayMesh& frame, const JobResults& results) {
+    std::string title = render::method_display_name(frame.method) + "  \xC2\xB7  iteration " +
+                        std::to_string(frame.iteration);
+    if (results.iteration_count() > 0)
+        title += " of " + std::to_string(results.iteration_count() - 1);
+    return title;
+}
+
+void centred_text(ImDrawList* draw, ImFont* font, ImVec2 min, ImVec2 max, ImU32 color,
+                  const std::string& text) {
+    const ImVec2 size =
+        font->CalcTextSizeA(font->FontSize, max.x - min.x, max.x - min.x, text.c_str());
+    const ImVec2 at(std::round(0.5f * (min.x + max.x - size.x)),
+                    std::round(0.5f * (min.y + max.y - size.y)));
+    draw->AddText(font, font->FontSize, at, color, text.c_str(), nullptr, max.x - min.x);
+}
+
+// A small translucent label (for "updating" and hints) at `at`.
+void tag(ImDrawList* draw, ImFont* font, ImVec2 at, ImU32 color, const std::string& text) {
+    const ImVec2 size = font->CalcTextSizeA(font->FontSize, 1e9f, 0, text.c_str());
+    const float pad = 0.3f * font->FontSize;
+    draw->AddRectFilled(ImVec2(at.x - pad, at.y - 0.5f * pad),
+                        ImVec2(at.x + size.x + pad, at.y + size.y + 0.5f * pad),
+                        IM_COL32(255, 255, 255, 200), pad);
+    draw->AddText(font, font->FontSize, at, color, text.c_str());
+}
+
+} // namespace
+
+void App::draw_main_area(float width, float height) {
+    ImGui::BeginChild("views area", ImVec2(width, height), false,
+                      ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+    const float pad = std::round(0.4f * fonts_.size);
+    ImGui::SetCursorPos(ImVec2(pad, pad));
+    draw_toolbar();
+    const float bar_height = ImGui::GetFrameHeightWithSpacing() + 2 * pad;
+    const float views_top = ImGui::GetCursorPosY() + pad;
+    ImGui::SetCursorPos(ImVec2(0, views_top));
+    draw_views(width, std::max(height - views_top - bar_height, 2.0f * fonts_.size));
+    ImGui::SetCursorPos(ImVec2(pad, ImGui::GetCursorPosY() + pad));
+    draw_iteration_bar();
+    ImGui::EndChild();
+}
+
+void App::draw_toolbar() {
+    ViewSettings& view = settings_.view;
+    ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImGui::GetStyle().ItemInnerSpacing);
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted("Shading");
+    ImGui::SameLine();
+    struct Choice {
+        const char* name;
+        const char* label;
+        Action action;
+    };
+    for (const Choice& c : {Choice{"flat", "Flat", Action::ShadingFlat},
+                            Choice{"smooth", "Smooth", Action::ShadingSmooth},
+                            Choice{"quality", "Quality colours", Action::ShadingQuality}}) {
+        if (ImGui::RadioButton(c.label, view.shading == c.name)) perform(c.action);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("%s  (%s)", shortcut_for(c.action).description,
+                              shortcut_for(c.action).keys);
+        ImGui::SameLine();
+    }
+    ImGui::Checkbox("Wireframe", &view.wireframe);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the triangle edges  (W)");
+    if (view.shading == "quality") {
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(8.5f * fonts_.size);
+        ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, "red: q < %.2f");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("triangles whose quality q (smallest / largest angle) is under this "
+                              "value are drawn red");
+    }
+    ImGui::SameLine(0, 2.0f * fonts_.size);
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted("Camera");
+    ImGui::SameLine();
+    struct Preset {
+        const char* name;
+        const char* label;
+        Action action;
+    };
+    for (const Preset& p :
+         {Preset{"front", "Front", Action::ViewFront}, Preset{"side", "Side", Action::ViewSide},
+          Preset{"top", "Top", Action::ViewTop}, Preset{"iso", "Iso", Action::ViewIso}}) {
+        if (ImGui::Button(p.label)) perform(p.action);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("%s  (%s)", shortcut_for(p.action).description,
+                              shortcut_for(p.action).keys);
+        ImGui::SameLine();
+    }
+    if (ImGui::Button("Reset")) reset_camera();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("frame both meshes again  (R, or double-click a view)");
+    ImGui::PopStyleVar();
+}
+
+void App::draw_views(float width, float height) {
+    const float f = fonts_.size;
+    const float title_height = std::round(2.9f * f);
+    const float gap = std::round(0.3f * f);
+    const float view_width = std::floor((width - gap) / 2.0f);
+    const float view_height = std::max(height - title_height, f);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+
+    // 3D: drawn now into the views' targets (only when something changed), shown as images.
+    const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+    view_aspect_ = view_width / view_height;
+    views_->render(int(std::lround(view_width * scale.x)), int(std::lround(view_height * scale.y)),
+                   camera_, draw_style());
+
+    const std::shared_ptr<const DisplayMesh> meshes[2] = {results_.mc, results_.frame};
+    const bool current[2] = {results_.mc_current, results_.frame_current};
+    const bool busy = !results_.finished && results_.error.empty();
+    for (int i = 0; i < 2; ++i) {
+        const float x = origin.x + float(i) * (view_width + gap);
+        const ImVec2 title_min(x, origin.y), title_max(x + view_width, origin.y + title_height);
+        const ImVec2 view_min(x, origin.y + title_height),
+            view_max(x + view_width, origin.y + title_height + view_height);
+        draw->AddRectFilled(title_min, title_max, IM_COL32(255, 255, 255, 255));
+        if (meshes[i]) {
+            const std::string title = i == 0 ? "Marching Cubes" : net_title(*meshes[i], results_);
+            render::draw_view_title(draw, title_min, title_max,
+                                    {meshes[i]->method, title, &meshes[i]->metrics}, fonts_);
+        } else {
+            const std::string name =
+                i == 0 ? "Marching Cubes"
+                       : render::method_display_name(method_name(settings_.parameters.relax.mode));
+            centred_text(draw, fonts_.bold, title_min, title_max, IM_COL32(28, 30, 34, 255), name);
+        }
+        draw->AddImage(ImTextureID(std::intptr_t(views_->texture(i))), view_min, view_max,
+                       ImVec2(0, 1), ImVec2(1, 0));
+        ImGui::SetCursorScreenPos(view_min);
+        ImGui::InvisibleButton(i == 0 ? "##view mc" : "##view net", ImVec2(view_width, view_height),
+                               ImGuiButtonFlags_MouseButtonLeft |
+                                   ImGuiButtonFlags_MouseButtonRight |
+                                   ImGuiButtonFlags_MouseButtonMiddle);
+        record(i == 0 ? "view_mc" : "view_net");
+        handle_view_input(UiRect{view_min.x, view_min.y, view_max.x, view_max.y});
+
+        // Overlays: what is happening when there is nothing (yet) to see.
+        if (!meshes[i]) {
+            const std::string text = !results_.error.empty() ? results_.error
+                                     : i == 0                ? "computing Marching Cubes..."
+                                                             : "relaxing the SurfaceNet...";
+            centred_text(draw, fonts_.regular, view_min, view_max,
+                         results_.error.empty() ? kHint : IM_COL32(190, 30, 30, 255), text);
+        } else if (!current[i] && busy) {
+            tag(draw, fonts_.small, ImVec2(view_min.x + 0.5f * f, view_min.y + 0.4f * f), kHint,
+                "updating...");
+        }
+        if (i == 1 && meshes[i] && results_.frame_recomputed)
+            tag(draw, fonts_.small, ImVec2(view_max.x - 8.5f * f, view_min.y + 0.4f * f), kHint,
+                "recomputed from a keyframe");
+    }
+    // The quality legend in the right view, as in the figures.
+    if (settings_.view.shading == "quality") {
+        const ImVec2 legend = render::quality_legend_size(fonts_.size);
+        const float margin = std::round(0.6f * f);
+        const float right = origin.x + 2 * view_width + gap - margin;
+        const float bottom = origin.y + title_height + view_height - margin;
+        const float legend_width = std::min(legend.x, view_width - 2 * margin);
+        if (legend_width > 6 * f && view_height > legend.y + 4 * f)
+            render::draw_quality_legend(draw, ImVec2(right - legend_width, bottom - legend.y),
+                                        ImVec2(right, bottom), settings_.view.quality_threshold,
+                                        fonts_);
+    }
+    // How to move the camera, for people who have not read the help.
+    tag(draw, fonts_.small,
+        ImVec2(origin.x + 0.6f * f, origin.y + title_height + view_height - 1.6f * f), kHint,
+        "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom  \xC2\xB7  double-click: "
+        "reset");
+
+    views_rect_ = UiRect{origin.x, origin.y, origin.x + 2 * view_width + gap,
+                         origin.y + title_height + view_height};
+    rects_["views"] = views_rect_;
+    ImGui::SetCursorScreenPos(ImVec2(origin.x, origin.y + title_height + view_height));
+    ImGui::Dummy(ImVec2(width, 0));
+}
+
+void App::handle_view_input(const UiRect& area) {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (ImGui::IsItemHovered()) {
+        if (io.MouseWheel != 0) camera_.zoom(std::pow(1.12f, io.MouseWheel));
+        if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) reset_camera();
+    }
+    if (!ImGui::IsItemActive()) return;
+    const ImVec2 d = io.MouseDelta;
+    if (d.x == 0 && d.y == 0) return;
+    const bool pan = ImGui::IsMouseDown(ImGuiMouseButton_Right) ||
+                     ImGui::IsMouseDown(ImGuiMouseButton_Middle) || io.KeyShift;
+    const float h = std::max(area.height(), 1.0f);
+    if (pan) {
+        camera_.pan(-d.x / h, d.y / h);
+    } else {
+        // A drag across the view's height turns the camera by about 180 degrees.
+        camera_.orbit(-d.x / h * 3.14159f, d.y / h * 3.14159f);
+    }
+}
+
+void App::draw_iteration_bar() {
+    const int count = results_.iteration_count();
+    const int last = std::max(count - 1, 0);
+    const int shown = shown_iteration();
+    const bool has_net = count > 0;
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted("Relaxation");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!has_net);
+    auto button = [&](const char* label, const char* id, Action action) {
+        const bool pressed = ImGui::Button(label);
+        record(id);
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("%s  (%s)", shortcut_for(action).description,
+                              shortcut_for(action).keys);
+        ImGui::SameLine();
+        return pressed;
+    };
+    if (button("|<", "first", Action::FirstIteration)) perform(Action::FirstIteration);
+    if (button(" < ", "step_back", Action::StepBack)) step(-1);
+    if (button(playing_ ? "Pause" : " Play ", "play", Action::PlayPause)) set_playing(!playing_);
+    if (button(" > ", "step_forward", Action::StepForward)) step(+1);
+    if (button(">|", "last", Action::LastIteration)) perform(Action::LastIteration);
+
+    char format[64];
+    std::snprintf(format, sizeof format, "iteration %%d of %d", last);
+    int value = shown;
+    const float run_width =
+        ImGui::CalcTextSize("Run to convergence").x + 2 * ImGui::GetStyle().FramePadding.x;
+    const float status_width = 12.0f * fonts_.size;
+    ImGui::SetNextItemWidth(std::max(ImGui::GetContentRegionAvail().x - run_width - status_width -
+                                         2 * ImGui::GetStyle().ItemSpacing.x,
+                                     6.0f * fonts_.size));
+    if (ImGui::SliderInt("##iteration", &value, 0, last, format, ImGuiSliderFlags_AlwaysClamp)) {
+        playing_ = false;
+        show_iteration(value);
+    }
+    record("iteration_slider");
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("drag to any iteration of the relaxation; the right view and every "
+                          "number follow it");
+    ImGui::SameLine();
+    const bool converged = results_.finished && results_.finished->converged;
+    ImGui::BeginDisabled(converged && following_);
+    if (ImGui::Button("Run to convergence")) run_to_convergence();
+    ImGui::EndDisabled();
+    record("run_to_convergence");
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("relax further until the largest move is under epsilon, then show "
+                          "the last iteration  (C)");
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::AlignTextToFramePadding();
+    std::string state;
+    if (!results_.error.empty())
+        state = "failed";
+    else if (!results_.finished)
+        state = has_net ? "relaxing..." : "computing...";
+    else if (results_.finished->converged)
+        state = "converged at " + std::to_string(results_.finished->iterations);
+    else
+        state = "stopped at max. iterations";
+    ImGui::TextDisabled("%s", state.c_str());
+}
+
+} // namespace snert::app

@@ -1,0 +1,38 @@
+// Small plots of the app, drawn with ImGui's draw lists: the convergence curves of the
+// relaxation and the value histogram beside the iso slider. Each is an interactive widget:
+// pressing or dragging the left mouse button on it picks an iteration or an iso value.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+
+#include <imgui.h>
+
+#include "render/fonts.h"
+#include "volume_source.h"
+
+namespace snert::app {
+
+struct ConvergencePlot {
+    std::string title;              // "Mean quality"
+    std::string hint;               // tooltip: what the curve means and which way is better
+    std::span<const float> values;  // [k] = value after iteration k
+    int first_iteration = 0;        // first k drawn (max move has no value at 0)
+    int marker = -1;                // the iteration shown in the views
+    std::optional<float> reference; // Marching Cubes' value, drawn dashed
+    bool log_scale = false;
+    ImU32 color = IM_COL32(0, 114, 178, 255);
+};
+
+// Draws the plot into the next `size` of the current window. Returns the iteration under the
+// mouse while the left button is pressed on it.
+std::optional<int> convergence_plot(const char* id, const ConvergencePlot& plot, ImVec2 size,
+                                    const render::FigureFonts& fonts);
+
+// The volume's value histogram (logarithmic counts) with a line at `iso`. Returns the value
+// under the mouse while the left button is pressed on it.
+std::optional<float> value_histogram_plot(const char* id, const ValueHistogram& histogram,
+                                          float iso, ImVec2 size, const render::FigureFonts& fonts);
+
+} // namespace snert::app

@@ -1,0 +1,75 @@
+// What the app remembers between runs: the parameters, the view options, the layout and the
+// recent files, as a small text file (key = value lines) in the user's configuration folder.
+//
+// GL-free: view options are stored by name ("smooth", "iso") and parsed by the app.
+// Reading never fails: a missing file gives the defaults, and an unknown key or a bad value is
+// skipped (the rest of the file still applies), so an old or hand-edited file cannot stop the
+// app from starting. Writing is atomic (core/atomic_file.h).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "worker.h"
+
+namespace snert::app {
+
+// The pipeline's parameters as the panel edits them (DESIGN.md).
+struct Parameters {
+    VolumeSpec volume{"phantom:two-spheres", 64};
+    bool auto_iso = true; // use the volume's suggested iso (the phantom's, or Otsu's)
+    float iso = 0.0f;     // used when !auto_iso
+    InsideIs inside = InsideIs::Above;
+    RelaxOptions relax; // mode, weights, schedule, constraint, gradient, iterations, eps
+    TriangulationRule triangulation = TriangulationRule::ShorterDiagonal;
+
+    JobRequest request() const;
+    bool operator==(const Parameters&) const;
+};
+
+struct ViewSettings {
+    std::string shading = "quality"; // "flat", "smooth", "quality" (render/mesh_view.h)
+    bool wireframe = false;
+    float quality_threshold = 0.25f; // triangles under it are highlighted in quality shading
+    std::string preset = "iso";      // "front", "side", "top", "iso"
+};
+
+struct LayoutSettings {
+    int window_width = 1440, window_height = 900;
+    int window_x = -1, window_y = -1; // -1: let the window system place it
+    float side_panel_width = 330.0f;  // pixels (at scale 1)
+    float bottom_panel_height = 300.0f;
+    bool show_side_panel = true;
+    bool show_bottom_panel = true;
+    int bottom_tab = 0;    // 0 histograms + metrics, 1 convergence plots
+    float ui_scale = 1.0f; // text size factor
+};
+
+struct Settings {
+    Parameters parameters;
+    ViewSettings view;
+    LayoutSettings layout;
+    std::vector<std::string> recent_files; // newest first, at most kMaxRecent
+    float play_speed = 10.0f;              // iterations per second while playing
+    int history_budget_mb = 256;           // memory for stored iterations
+
+    static constexpr std::size_t kMaxRecent = 10;
+    // Puts `path` first in recent_files (removing an older entry of it), keeping kMaxRecent.
+    void add_recent(const std::string& path);
+};
+
+// The settings file: $XDG_CONFIG_HOME/snert/settings.ini, else ~/.config/snert/settings.ini;
+// empty when neither variable is set (the app then keeps nothing).
+std::string default_settings_path();
+
+// Parses the text of a settings file over the defaults.
+Settings parse_settings(const std::string& text);
+std::string format_settings(const Settings& settings);
+
+// Reads `path` (defaults when it does not exist or cannot be read).
+Settings load_settings(const std::string& path);
+// Writes `path` atomically, creating its folder. Throws std::runtime_error naming the file.
+void save_settings(const Settings& settings, const std::string& path);
+
+} // namespace snert::app

@@ -1,0 +1,181 @@
+// GLFW glue: the window, the frame loop, drag-and-drop, automation screenshots.
+#include "window.h"
+
+#include "render/gl.h" // glad before GLFW
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include "render/image.h"
+
+namespace snert::app {
+
+namespace {
+
+std::string g_glfw_error; // the last GLFW error, for the message when the window fails
+
+void on_glfw_error(int code, const char* description) {
+    char text[32];
+    std::snprintf(text, sizeof text, " (0x%x)", code);
+    g_glfw_error = std::string(description ? description : "unknown error") + text;
+}
+
+void on_drop(GLFWwindow* window, int count, const char** paths) {
+    auto* app = static_cast<App*>(glfwGetWindowUserPointer(window));
+    std::vector<std::string> list(paths, paths + count);
+    if (app) app->on_drop(list);
+}
+
+// Owns glfwInit / glfwTerminate and the window.
+struct Glfw {
+    GLFWwindow* window = nullptr;
+    Glfw() {
+        glfwSetErrorCallback(on_glfw_error);
+        if (!glfwInit())
+            throw NoWindow("cannot open a window: " + g_glfw_error +
+                           "; without a display, `snert render` draws the same views "
+                           "into a PNG");
+    }
+    ~Glfw() {
+        if (window) glfwDestroyWindow(window);
+        glfwTerminate();
+    }
+};
+
+// The frame just drawn into the default framebuffer, rows top to bottom.
+render::Image read_window(int width, int height) {
+    render::Image image;
+    image.width = width;
+    image.height = height;
+    image.rgba.resize(std::size_t(width) * std::size_t(height) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    std::vector<std::uint8_t> rows(image.rgba.size());
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    const std::size_t stride = std::size_t(width) * 4;
+    for (int y = 0; y < height; ++y) // GL's rows are bottom-up
+        std::copy_n(rows.data() + std::size_t(height - 1 - y) * stride, stride,
+                    image.rgba.data() + std::size_t(y) * stride);
+    for (std::size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255; // opaque PNG
+    return image;
+}
+
+bool first_result_ready(const App& app) {
+    const JobResults& r = app.results();
+    return !r.error.empty() || (r.finished && r.mc && r.frame && r.mc_current && r.frame_current);
+}
+
+} // namespace
+
+int run_window(const WindowOptions& options) {
+    const bool automation = !options.screenshot_path.empty();
+    const Settings saved = load_settings(options.app.settings_path);
+    const int width = options.width > 0 ? options.width : saved.layout.window_width;
+    const int height = options.height > 0 ? options.height : saved.layout.window_height;
+
+    Glfw glfw;
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_SCALE_TO_MONITOR, GLFW_TRUE);
+    glfw.window = glfwCreateWindow(width, height, "snert: Marching Cubes and SNERT side by side",
+                                   nullptr, nullptr);
+    if (!glfw.window) throw NoWindow("cannot open a window: " + g_glfw_error);
+    if (!automation && saved.layout.window_x >= 0 && saved.layout.window_y >= 0)
+        glfwSetWindowPos(glfw.window, saved.layout.window_x, saved.layout.window_y);
+    glfwMakeContextCurrent(glfw.window);
+    glfwSwapInterval(1);
+    render::load_gl(glfwGetProcAddress);
+
+    IMGUI_CHECKVERSION();
+    ImGuiContext* imgui = ImGui::CreateContext();
+    AppOptions app_options = options.app;
+    float scale_x = 1.0f, scale_y = 1.0f;
+    glfwGetWindowContentScale(glfw.window, &scale_x, &scale_y);
+    app_options.content_scale = scale_y;
+    auto app = std::make_unique<App>(app_options);
+    glfwSetWindowUserPointer(glfw.window, app.get());
+    glfwSetDropCallback(glfw.window, on_drop);
+    ImGui_ImplGlfw_InitForOpenGL(glfw.window, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+
+    int result = 0;
+    int frames_after_result = -1; // automation: counting once the first result is in
+    const auto started = std::chrono::steady_clock::now();
+    while (!glfwWindowShouldClose(glfw.window) && !app->quit_requested()) {
+        // Sleep until an event while nothing changes; draw continuously while it does.
+        if (automation || app->animating())
+            glfwPollEvents();
+        else
+            glfwWaitEventsTimeout(0.5);
+        if (glfwGetWindowAttrib(glfw.window, GLFW_ICONIFIED)) {
+            glfwWaitEventsTimeout(0.1);
+            continue;
+        }
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        app->frame();
+        ImGui::Render();
+        int fb_width = 0, fb_height = 0;
+        glfwGetFramebufferSize(glfw.window, &fb_width, &fb_height);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, fb_width, fb_height);
+        glClearColor(0.955f, 0.96f, 0.968f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        const float scale = ImGui::GetIO().DisplayFramebufferScale.x;
+        if (const auto request = app->take_screenshot_request())
+            app->save_screenshot(read_window(fb_width, fb_height), *request, scale);
+
+        if (automation) {
+            if (frames_after_result < 0 && first_result_ready(*app)) frames_after_result = 0;
+            if (frames_after_result >= 0 && ++frames_after_result >= options.frames) {
+                if (!app->results().error.empty()) {
+                    std::cerr << "snert gui: " << app->results().error << "\n";
+                    result = 2;
+                } else {
+                    render::write_png(options.screenshot_path, read_window(fb_width, fb_height));
+                    std::cout << "snert gui: saved " << fb_width << "x" << fb_height
+                              << " window to " << options.screenshot_path << "\n";
+                }
+                break;
+            }
+            if (std::chrono::steady_clock::now() - started > std::chrono::minutes(5)) {
+                std::cerr << "snert gui: no result after 5 minutes; no screenshot written\n";
+                result = 1;
+                break;
+            }
+        }
+        glfwSwapBuffers(glfw.window);
+    }
+
+    if (options.save_settings && !automation) {
+        Settings& s = app->settings();
+        glfwGetWindowSize(glfw.window, &s.layout.window_width, &s.layout.window_height);
+        glfwGetWindowPos(glfw.window, &s.layout.window_x, &s.layout.window_y);
+        try {
+            app->save_settings();
+        } catch (const std::exception& e) {
+            std::cerr << "snert gui: settings not saved: " << e.what() << "\n";
+        }
+    }
+    glfwSetWindowUserPointer(glfw.window, nullptr);
+    app.reset(); // its GL objects go while the context is current; the worker is joined
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext(imgui);
+    return result;
+}
+
+} // namespace snert::app

@@ -1,0 +1,194 @@
+// The app's background worker: one thread that owns the computation (load, segment, Marching
+// Cubes, SurfaceNet, relaxation), so the UI thread never computes a mesh and never waits.
+//
+// Contract with the UI thread:
+//  - request(job) starts a new job and returns its generation. The running job is cancelled
+//    (its stop token is triggered; core functions poll it once per slab or iteration) and only
+//    the newest request is ever started: requests that arrive while another is pending replace
+//    it ("latest wins"). A hundred requests in one frame start at most one job.
+//  - Progress is published as atomics (JobProgress) the UI reads every frame.
+//  - Results come back as Messages in an outbox the UI drains once per frame with drain();
+//    every message carries the generation of the job that made it, so the UI drops stale ones.
+//    drain() only swaps a vector under a mutex: it never waits for a computation.
+//  - The relaxation publishes every iteration: an IterationMessage (the convergence numbers),
+//    and the positions go into the worker's IterationHistory under the memory budget.
+//  - Meshes of the relaxed net (FrameMessage) are made on request: show_iteration(k) asks for
+//    iteration k (recomputed from a keyframe when it is no longer stored), show_iteration(kLive)
+//    follows the newest iteration. While following, a new frame is made only once the UI has
+//    drained the previous one, so a fast relaxation does not spend its time on frames nobody
+//    sees; the last iteration's frame is always sent. Undrained frames are replaced, not queued.
+//  - continue_relaxation() relaxes the finished job further, up to `extra` iterations or until
+//    the largest move falls under epsilon ("run to convergence").
+//  - The worker never touches GL or ImGui. The destructor cancels and joins.
+//
+// Caches: the last loaded volume is kept, so changing a parameter does not reload the file; the
+// last Marching Cubes result is kept while volume, iso and inside stay the same.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stop_token>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "core/pipeline.h"
+#include "iteration_history.h"
+#include "volume_source.h"
+
+namespace snert::app {
+
+// One job: a volume and the pipeline's parameters (DESIGN.md).
+struct JobRequest {
+    VolumeSpec volume;
+    std::optional<float> iso; // empty: the volume's suggested iso
+    PipelineOptions options;  // options.iso and options.relax.iso are set from the iso
+};
+
+enum class Stage : int { Idle, Load, Segment, MarchingCubes, Net, Relax, Done, Failed };
+inline constexpr int kStageCount = 8;
+const char* stage_name(Stage stage); // "loading", "segmenting", ...
+
+// Written by the worker, read by the UI every frame (relaxed atomics: numbers for display).
+struct JobProgress {
+    std::atomic<std::uint64_t> generation{0}; // job these numbers belong to
+    std::atomic<int> stage{int(Stage::Idle)};
+    std::array<std::atomic<float>, kStageCount> fraction{}; // 0..1 per stage
+    std::atomic<int> iteration{0};                          // iterations done in the relaxation
+    std::atomic<int> max_iterations{0};
+};
+
+// A mesh ready to draw, with its numbers. World units; quality per triangle for colouring.
+struct DisplayMesh {
+    std::string method; // "mc", "sna", "gradient", "snert"
+    int iteration = -1; // relaxation iteration; -1 for Marching Cubes
+    Mesh mesh;
+    std::vector<float> quality; // smallest / largest angle per triangle
+    MethodMetrics metrics;
+};
+
+struct VolumeMessage {
+    std::shared_ptr<const SourceVolume> source;
+    float iso = 0.0f;                // the iso this job uses
+    bool analytic_reference = false; // accuracy is measured against the exact surface
+};
+struct MarchingCubesMessage {
+    std::shared_ptr<const DisplayMesh> mesh;
+};
+struct NetMessage {
+    std::size_t nodes = 0, links = 0, quads = 0;
+    int max_iterations = 0;
+    double ms = 0; // building the net and the gradient field
+};
+struct IterationMessage {
+    IterationStats stats; // iteration 0 is the initial net
+};
+struct FrameMessage {
+    std::shared_ptr<const DisplayMesh> mesh;
+    bool recomputed = false; // made from a keyframe (the iteration was not stored)
+};
+struct FinishedMessage {
+    int iterations = 0;     // relaxation iterations done
+    bool converged = false; // the largest move fell under epsilon
+    double ms = 0;          // whole job
+};
+struct FailedMessage {
+    std::string error; // one line, names the input
+};
+
+using Payload = std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage,
+                             FrameMessage, FinishedMessage, FailedMessage>;
+struct Message {
+    std::uint64_t generation = 0;
+    Payload payload;
+};
+
+struct WorkerOptions {
+    std::size_t history_budget_bytes = std::size_t(256) << 20; // stored positions (see history)
+};
+
+class Worker {
+  public:
+    static constexpr int kLive = -1; // show_iteration: follow the newest iteration
+
+    explicit Worker(WorkerOptions options = {});
+    ~Worker();
+    Worker(const Worker&) = delete;
+    Worker& operator=(const Worker&) = delete;
+
+    // Starts `job` (cancelling the running one) and returns its generation (1, 2, ...).
+    std::uint64_t request(JobRequest job);
+    // Asks for the frame of iteration k of job `generation` (clamped to what exists; kLive:
+    // the newest, and keep following). Ignored for a job that is no longer current.
+    void show_iteration(std::uint64_t generation, int iteration);
+    // Relaxes job `generation` further from its newest iteration (after it finished).
+    void continue_relaxation(std::uint64_t generation, int extra_iterations);
+
+    // Takes the messages posted since the last call, oldest first. Never blocks on a job.
+    std::vector<Message> drain();
+
+    const JobProgress& progress() const { return progress_; }
+    // Newest generation handed out by request() (0 before the first).
+    std::uint64_t latest_generation() const;
+    // True when drain() would return something.
+    bool has_messages() const;
+    // True while a job or a frame request is being worked on or waiting.
+    bool busy() const;
+    // Jobs actually started / finished (not counting skipped ones); for tests and the status bar.
+    std::uint64_t jobs_started() const { return jobs_started_.load(); }
+    std::uint64_t jobs_finished() const { return jobs_finished_.load(); }
+
+  private:
+    struct Job;
+    struct ViewRequest {
+        std::uint64_t generation = 0;
+        int iteration = kLive;
+        bool pending = false;
+    };
+
+    void run(std::stop_token thread_stop);
+    void run_job(const JobRequest& request, std::uint64_t generation, std::stop_token stop);
+    void relax_further(std::uint64_t generation, int extra, std::stop_token stop);
+    void after_iteration(Job& job, std::span<const glm::vec3> positions, float max_move,
+                         std::stop_token stop);
+    void serve_view(Job& job, std::stop_token stop, bool final_frame);
+    std::shared_ptr<const DisplayMesh> make_frame(const Job& job, int iteration,
+                                                  std::span<const glm::vec3> positions) const;
+    void post(std::uint64_t generation, Payload payload);
+    void set_stage(std::uint64_t generation, Stage stage);
+    Progress stage_progress(Stage stage, std::stop_token stop);
+
+    WorkerOptions options_;
+    JobProgress progress_;
+    std::atomic<std::uint64_t> jobs_started_{0}, jobs_finished_{0};
+
+    // Shared with the UI thread, under mutex_.
+    mutable std::mutex mutex_;
+    std::condition_variable_any wake_;
+    std::optional<JobRequest> pending_job_;
+    std::uint64_t pending_generation_ = 0;
+    std::uint64_t latest_generation_ = 0;
+    std::stop_source job_stop_; // of the running job (and its continuation)
+    ViewRequest view_;
+    std::optional<std::pair<std::uint64_t, int>> continue_request_;
+    std::vector<Message> outbox_;
+    bool frame_undrained_ = false;
+    bool working_ = false;
+
+    // Owned by the worker thread only.
+    std::unique_ptr<Job> job_;
+    std::shared_ptr<const SourceVolume> cached_source_;
+    std::shared_ptr<const DisplayMesh> cached_mc_;
+    float cached_mc_iso_ = 0.0f;
+    InsideIs cached_mc_inside_ = InsideIs::Above;
+
+    std::jthread thread_; // last: started after everything above exists, joined first
+};
+
+} // namespace snert::app
