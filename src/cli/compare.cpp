@@ -42,6 +42,7 @@ int run_compare(const std::vector<std::string>& argv) {
     nlohmann::json json;
     for (const std::string& method : requested_methods(args)) {
         results.push_back(run_method(input, pipeline, method));
+        require_surface(results.back(), input);
         json[method] = method_json(results.back(), input);
     }
     print_table(std::cout, input.name + " (iso " + std::to_string(input.iso) + ")", results, input);

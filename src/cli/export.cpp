@@ -25,9 +25,7 @@ int run_export(const std::vector<std::string>& argv) {
     const std::string method = args.choice("method", "snert", {"mc", "sna", "gradient", "snert"});
     const Input input = load_input(args);
     const MethodResult result = run_method(input, pipeline_options(args, input), method);
-    if (result.mesh.triangle_count() == 0)
-        throw std::runtime_error(input.name + ": the surface at iso " + std::to_string(input.iso) +
-                                 " is empty (the volume is all inside or all outside)");
+    require_surface(result, input);
     write_mesh(result.mesh, *out, format);
     std::cerr << "wrote " << *out << ": " << result.mesh.vertex_count() << " vertices, "
               << result.mesh.triangle_count() << " triangles (" << method << ")\n";

@@ -35,6 +35,14 @@ MethodResult run_method(const Input& input, const PipelineOptions& base, const s
     return run_surface_net(input.volume, segmentation, options, input.reference, progress);
 }
 
+void require_surface(const MethodResult& result, const Input& input) {
+    if (result.mesh.triangle_count() > 0) return;
+    char iso[32];
+    std::snprintf(iso, sizeof iso, "%g", double(input.iso));
+    throw std::runtime_error(input.name + ": the surface at iso " + iso +
+                             " is empty (the volume is all inside or all outside)");
+}
+
 namespace {
 
 nlohmann::json number_or_null(std::optional<double> v) {

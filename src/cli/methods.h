@@ -23,6 +23,10 @@ std::vector<std::string> requested_methods(const Args& args);
 MethodResult run_method(const Input& input, const PipelineOptions& options,
                         const std::string& method, const Progress& progress = {});
 
+// Throws std::runtime_error naming the input when the method produced no triangle: the volume is
+// all inside or all outside at this iso, which is bad input, not a result to report.
+void require_surface(const MethodResult& result, const Input& input);
+
 // One object per method, DESIGN.md's schema; accuracies in voxel units, null without reference.
 nlohmann::json method_json(const MethodResult& result, const Input& input);
 

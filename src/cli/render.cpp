@@ -148,11 +148,7 @@ int run_render(const std::vector<std::string>& argv) {
     std::vector<MethodResult> results;
     if (layout != "net") results.push_back(run_method(input, pipeline, "mc"));
     if (layout != "mc") results.push_back(run_method(input, pipeline, net));
-    for (const MethodResult& r : results)
-        if (r.mesh.triangle_count() == 0)
-            throw std::runtime_error(input.name + ": the surface at iso " +
-                                     format_number(input.iso) +
-                                     " is empty (the volume is all inside or all outside)");
+    for (const MethodResult& r : results) require_surface(r, input);
 
     std::vector<render::FigureMethod> methods;
     methods.reserve(results.size());

@@ -135,11 +135,11 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality) {
     glBindVertexArray(0);
 
     // Per-triangle quality in a buffer texture, fetched by gl_PrimitiveID. A buffer texture
-    // needs storage, so an empty mesh gets one placeholder value.
-    const float placeholder = 0.0f;
+    // needs storage, so an empty mesh gets one unused value.
+    const float unused_value = 0.0f;
     glBindBuffer(GL_TEXTURE_BUFFER, quality_buffer_);
     glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
-                 quality.empty() ? &placeholder : quality.data(), GL_STATIC_DRAW);
+                 quality.empty() ? &unused_value : quality.data(), GL_STATIC_DRAW);
     glBindTexture(GL_TEXTURE_BUFFER, quality_texture_);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, quality_buffer_);
     glBindTexture(GL_TEXTURE_BUFFER, 0);

@@ -42,6 +42,8 @@ expect_exit 2 "no-such-volume.nrrd" -- "$SNERT" compare "$tmp/no-such-volume.nrr
 expect_exit 2 "mesh.xyz" -- "$SNERT" export phantom:sphere --size 16 --out "$tmp/mesh.xyz"
 expect_exit 2 "empty" -- "$SNERT" export phantom:sphere --size 16 --iso 1000 --out "$tmp/e.stl"
 [ -e "$tmp/e.stl" ] && fail "empty surface left a file"
+expect_exit 2 "all inside or all outside" -- "$SNERT" compare phantom:sphere --size 16 --iso -1000 --json "$tmp/e.json"
+[ -e "$tmp/e.json" ] && fail "empty surface left a JSON file"
 
 # compare: the table and the JSON schema.
 expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 24 --json "$tmp/c.json"
