@@ -170,6 +170,18 @@ Geometry geometry_of(const itk::ImageIOBase& io) {
     return g;
 }
 
+// The float32 grid of a volume whose geometry has been read; checks the geometry first.
+Volume allocate_volume(const std::string& path, glm::ivec3 dims, const Geometry& g) {
+    check_geometry(path, g);
+    Volume v;
+    v.dims = dims;
+    v.spacing = g.spacing;
+    v.origin = g.origin;
+    v.direction = g.direction;
+    v.samples.resize(v.voxel_count());
+    return v;
+}
+
 VolumeInfo make_info(const std::string& path, const std::string& format, ScalarType type,
                      const Volume& volume) {
     VolumeInfo info;
@@ -287,15 +299,9 @@ LoadedVolume open_with_imageio(const std::string& path, itk::ImageIOBase& io,
     detail::check_memory(path, h.dims, size > sizeof(float) ? voxels * size : 0,
                          options.memory_limit_bytes);
     Geometry g = geometry_of(io);
-    check_geometry(path, g);
-
     LoadedVolume loaded;
+    loaded.volume = allocate_volume(path, h.dims, g);
     Volume& v = loaded.volume;
-    v.dims = h.dims;
-    v.spacing = g.spacing;
-    v.origin = g.origin;
-    v.direction = g.direction;
-    v.samples.resize(v.voxel_count());
     options.progress.update(0.0f);
     try {
         read_through_imageio(io, h, v);
@@ -342,15 +348,9 @@ LoadedVolume open_nifti(const std::string& path, itk::ImageIOBase& io, const Loa
                                      std::to_string(have));
     }
     Geometry g = geometry_of(io);
-    check_geometry(path, g);
-
     LoadedVolume loaded;
+    loaded.volume = allocate_volume(path, h.dims, g);
     Volume& v = loaded.volume;
-    v.dims = h.dims;
-    v.spacing = g.spacing;
-    v.origin = g.origin;
-    v.direction = g.direction;
-    v.samples.resize(v.voxel_count());
     options.progress.update(0.0f);
     detail::read_nifti_samples(path, nh, v.samples.data(), options.progress);
     loaded.info = make_info(path, "NIfTI", *nh.type, v);
@@ -776,15 +776,9 @@ LoadedVolume open_dicom(const DicomRequest& request, const std::string& path,
         g.origin[a] = float(wire.origin[a]);
         for (int r = 0; r < 3; ++r) g.direction[a][r] = float(wire.direction[3 * a + r]);
     }
-    check_geometry(path, g);
-
     LoadedVolume loaded;
+    loaded.volume = allocate_volume(path, dims, g);
     Volume& v = loaded.volume;
-    v.dims = dims;
-    v.spacing = g.spacing;
-    v.origin = g.origin;
-    v.direction = g.direction;
-    v.samples.resize(v.voxel_count());
     const std::uint64_t total_bytes = v.voxel_count() * sizeof(float);
     std::uint64_t filled = 0;
     for (;;) {
