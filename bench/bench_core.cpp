@@ -60,7 +60,7 @@ void BM_RelaxStep(benchmark::State& state) {
     const snert::GreyField grey = snert::make_grey_field(p.volume, options);
     std::vector<glm::vec3> next(net.node_count());
     for (auto _ : state) {
-        benchmark::DoNotOptimize(snert::relax_step(net, &grey, options, net.positions, next));
+        benchmark::DoNotOptimize(snert::relax_step(net, &grey, options, 1, net.positions, next));
     }
     state.counters["Mnodes/s"] = benchmark::Counter(double(net.node_count()) / 1e6,
                                                     benchmark::Counter::kIsIterationInvariantRate);

@@ -11,6 +11,7 @@ packages=(
   libinsighttoolkit5-dev zlib1g-dev
   xvfb xauth x11-apps imagemagick
   clang libclang-rt-14-dev
+  tetgen
 )
 
 missing=()

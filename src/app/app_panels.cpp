@@ -379,11 +379,22 @@ void App::draw_bottom_panel(float height) {
 void App::draw_quality_tab() {
     std::vector<render::PanelMethod> methods;
     if (results_.mc) methods.push_back({"mc", "Marching Cubes", &results_.mc->metrics});
-    if (results_.frame)
+    // The frame's mesh is measured alone; where the relaxation stands at that iteration comes
+    // from the iteration history.
+    MethodMetrics frame_metrics;
+    if (results_.frame) {
+        frame_metrics = results_.frame->metrics;
+        const int k = results_.frame->iteration;
+        frame_metrics.iterations = k;
+        if (k >= 0 && k < results_.iteration_count())
+            frame_metrics.final_max_move = results_.iterations[std::size_t(k)].max_move;
+        frame_metrics.converged =
+            results_.finished && results_.finished->converged && k == results_.finished->iterations;
         methods.push_back({results_.frame->method,
                            render::method_display_name(results_.frame->method) + ", iteration " +
-                               std::to_string(results_.frame->iteration),
-                           &results_.frame->metrics});
+                               std::to_string(k),
+                           &frame_metrics});
+    }
     if (methods.empty()) {
         ImGui::TextDisabled("  the histograms and the metrics appear when the meshes are ready");
         return;

@@ -86,7 +86,7 @@ std::vector<glm::vec3> IterationHistory::positions(int k, const std::stop_token&
     const RelaxContext& c = *context_;
     for (int it = start; it < k; ++it) {
         if (stop.stop_requested()) throw Cancelled();
-        relax_step(c.net, &c.grey, c.options, current, next);
+        relax_step(c.net, &c.grey, c.options, it + 1, current, next);
         current.swap(next);
         ++last_recomputed_steps_;
     }

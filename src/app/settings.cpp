@@ -190,7 +190,7 @@ JobRequest Parameters::request() const {
     if (!auto_iso) job.iso = iso;
     job.options.inside = inside;
     job.options.relax = relax;
-    job.options.triangulation = triangulation;
+    job.options.relax.triangulation = triangulation;
     return job;
 }
 

@@ -300,7 +300,8 @@ void Worker::relax_further(std::uint64_t generation, int extra, std::stop_token 
         for (int i = 0; i < extra && !converged; ++i) {
             throw_if_stopped(stop);
             // The same step relax() takes, so the history can recompute these iterations too.
-            const float max_move = relax_step(c.net, &c.grey, c.options, current, next);
+            const float max_move =
+                relax_step(c.net, &c.grey, c.options, first + i + 1, current, next);
             current.swap(next);
             after_iteration(job, current, max_move, stop);
             progress_.fraction[std::size_t(Stage::Relax)].store(float(i + 1) / float(extra));
@@ -326,7 +327,7 @@ void Worker::after_iteration(Job& job, std::span<const glm::vec3> positions, flo
     const std::span<const glm::vec3> now = job.history->latest();
 
     // The convergence numbers, measured exactly as measure() does (core/pipeline.h).
-    const Mesh index_mesh = triangulate(c.net, now, job.options.triangulation);
+    const Mesh index_mesh = triangulate(c.net, now, c.options.triangulation, c.volume->spacing);
     const Mesh world = mesh_to_world(index_mesh, *c.volume);
     IterationStats stats;
     stats.iteration = k;
@@ -382,7 +383,8 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
 std::shared_ptr<const DisplayMesh> Worker::make_frame(const Job& job, int iteration,
                                                       std::span<const glm::vec3> positions) const {
     const RelaxContext& c = *job.context;
-    const Mesh index_mesh = triangulate(c.net, positions, job.options.triangulation);
+    const Mesh index_mesh =
+        triangulate(c.net, positions, c.options.triangulation, c.volume->spacing);
     auto frame = std::make_shared<DisplayMesh>();
     frame->method = method_name(job.options.relax.mode);
     frame->iteration = iteration;

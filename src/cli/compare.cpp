@@ -22,6 +22,7 @@ const char* kHelp = R"(usage: snert compare VOLUME|phantom:NAME [options]
   --gradient central|gaussian  --sigma S
   --epsilon E          stop when the largest move is under E voxels (default 1e-4)
   --triangulation shorter|delaunay
+  --guard on|off       refuse moves that make the mesh self-intersect or add slivers (default on)
   --json FILE          also write the metrics as JSON
 )";
 

@@ -43,9 +43,9 @@ Input load_input(const Args& args) {
 }
 
 std::set<std::string> pipeline_option_names() {
-    return {"mode",     "iterations",   "smoothing-weight", "gradient-weight",
-            "schedule", "constraint",   "gradient",         "sigma",
-            "epsilon",  "triangulation"};
+    return {
+        "mode",     "iterations", "smoothing-weight", "gradient-weight", "schedule", "constraint",
+        "gradient", "sigma",      "epsilon",          "triangulation",   "guard"};
 }
 
 PipelineOptions pipeline_options(const Args& args, const Input& input) {
@@ -72,9 +72,10 @@ PipelineOptions pipeline_options(const Args& args, const Input& input) {
                      : GradientMethod::Gaussian;
     r.gradient_sigma = args.number("sigma", r.gradient_sigma);
     if (!(r.gradient_sigma > 0.0f)) throw UsageError("--sigma must be positive");
+    r.keep_valid = args.choice("guard", "on", {"on", "off"}) == "on";
     r.epsilon = args.number("epsilon", r.epsilon);
     if (r.epsilon < 0.0f) throw UsageError("--epsilon must not be negative");
-    o.triangulation = args.choice("triangulation", "shorter", {"shorter", "delaunay"}) == "shorter"
+    r.triangulation = args.choice("triangulation", "shorter", {"shorter", "delaunay"}) == "shorter"
                           ? TriangulationRule::ShorterDiagonal
                           : TriangulationRule::Delaunay;
     r.iso = o.iso;

@@ -27,10 +27,15 @@ MethodResult run_method(const Input& input, const PipelineOptions& options,
 // all inside or all outside at this iso, which is bad input, not a result to report.
 void require_surface(const MethodResult& result, const Input& input);
 
+// What the accuracies are measured against, in words: the phantom's exact surface, or the grey
+// values' iso-surface (first-order distance), also when a label map gave the segmentation.
+std::string accuracy_against(const Input& input);
+
 // One object per method, DESIGN.md's schema; accuracies in voxel units, null without reference.
 nlohmann::json method_json(const MethodResult& result, const Input& input);
 
-// A fixed-width table, one row per method.
+// Two fixed-width tables, one row per method each: quality and accuracy, then topology and
+// FE-readiness, each followed by a line saying what the columns mean.
 void print_table(std::ostream& out, const std::string& title,
                  const std::vector<MethodResult>& results, const Input& input);
 

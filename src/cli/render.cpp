@@ -77,6 +77,10 @@ std::string caption(const Input& input, const PipelineOptions& options, const st
         text += std::to_string(options.relax.max_iterations) + " iterations";
     else
         text += "at most " + std::to_string(options.relax.max_iterations) + " iterations";
+    // What the table's accuracies are distances to (in voxels).
+    text += input.analytic_reference
+                ? "  \xC2\xB7  accuracy: voxels to the exact surface"
+                : "  \xC2\xB7  accuracy: first-order voxels to the iso-surface";
     return text;
 }
 

@@ -14,7 +14,7 @@
 //    allocate exactly and fill, with vertices owned by edges.
 //
 // Layout of this file: (1) the case table, generated once from the face rule; (2) bit planes of
-// the inside/weld classification; (3) the passes.
+// the inside classification and the placement of crossings; (3) the passes.
 #include "marching_cubes.h"
 
 #include <algorithm>
@@ -36,8 +36,7 @@ namespace snert {
 // segments (on an ambiguous face, cut each inside corner off on its own); orient each segment
 // so that, seen from outside the cube, the inside corners lie on its right; the segments then
 // chain into closed loops, wound counter-clockwise seen from the outside of the surface; each
-// loop is triangulated once, here, with a fixed triangulation. A second table holds every
-// case again for every subset of its inside corners being welded (3^8 corner states).
+// loop is triangulated once, here, with a fixed triangulation.
 
 namespace detail {
 
@@ -97,8 +96,7 @@ void add_face_segments(int axis, int side, unsigned inside, std::vector<Segment>
     }
     // Four crossings: two diagonal inside corners. Cutting each one off on its own is the rule
     // that keeps inside corners separated. It depends only on the face, so the neighbouring
-    // cell decides the same; and all crossings at one inside corner stay consecutive in one
-    // loop, which welding relies on.
+    // cell decides the same.
     for (int c : inside_corners) {
         std::array<int, 2> ends{};
         int found = 0;
@@ -116,13 +114,11 @@ double smallest_angle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
     return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
 }
 
-// A corner of a loop's polygon: a crossed edge, or (after welding) a cell corner standing in
-// for the run of crossed edges at it.
+// A corner of a loop's polygon: a crossed edge.
 struct PolygonVertex {
-    int edge = 0;          // a crossed edge whose vertex this is
-    glm::dvec3 point{0.0}; // expected position: the edge midpoint, or the corner
+    int edge = 0;          // the crossed edge
+    glm::dvec3 point{0.0}; // expected position: the edge midpoint
     unsigned faces = 0;    // cube faces it lies on, bit 2 * axis + side
-    int corner = -1;       // the welded corner, -1 for a crossing
 };
 
 PolygonVertex edge_vertex(int edge) {
@@ -133,61 +129,35 @@ PolygonVertex edge_vertex(int edge) {
     return v;
 }
 
-PolygonVertex corner_vertex(int corner, int edge) {
-    PolygonVertex v{edge, glm::dvec3(corner_offset(corner)), 0, corner};
-    for (int axis = 0; axis < 3; ++axis) v.faces |= 1u << (2 * axis + corner_offset(corner)[axis]);
-    return v;
+// A diagonal between two crossings on a common face could be used by the neighbouring cell
+// too (then four triangles would share it), so it is never allowed; the case table proves it
+// is never needed. Every diagonal then runs through the cell's interior and belongs to this
+// cell alone: this is what makes Marching Cubes edge-manifold.
+bool chord_allowed(const PolygonVertex& a, const PolygonVertex& b) {
+    return (a.faces & b.faces) == 0;
 }
 
-struct Triangulation {
-    std::vector<std::array<int, 3>> triangles; // edges of the polygon vertices
-    int boundary_cost = 0;                     // see chord_cost
-};
-
-// How much a diagonal between polygon vertices a and b risks being used by a neighbouring cell
-// too (then four triangles would share it), -1 where it is not allowed. Inside the cell: 0.
-// Between two crossings on a common face: never needed (the case table proves it), so never
-// allowed; this is what makes plain Marching Cubes edge-manifold. From a welded corner along a
-// face: the two cells of a face split such chords between them, the cell below the face takes
-// those touching the face's main diagonal (corners with equal offsets along the face's two
-// axes), the cell above the others, so they cannot both use one (1 if this cell's kind, 3 if
-// not). Along a cell edge (two adjacent welded corners, shared by four cells): 5.
-int chord_cost(const PolygonVertex& a, const PolygonVertex& b) {
-    const unsigned shared = a.faces & b.faces;
-    if (shared == 0) return 0;
-    if (a.corner < 0 && b.corner < 0) return -1;
-    if (std::popcount(shared) > 1) return 5;
-    const int face = std::countr_zero(shared), axis = face / 2, side = face % 2;
-    const glm::ivec3 corner = corner_offset(a.corner >= 0 ? a.corner : b.corner);
-    const bool main_diagonal = corner[(axis + 1) % 3] == corner[(axis + 2) % 3];
-    return main_diagonal == (side == 0) ? 1 : 3;
-}
-
-// Triangulation of one polygon, chosen once per case (dynamic programming over sub-polygons):
-// first the smallest total chord_cost (none at all without welding: every diagonal then runs
-// through the cell's interior and belongs to this cell alone; with welding the result is
-// verified anyway, see resolve_welds). Then, on the expected vertex positions, the largest
-// smallest angle, then the shortest total diagonal length: a fan would put slivers into the
+// Triangulation of one polygon, chosen once per case (dynamic programming over sub-polygons)
+// among those whose diagonals are allowed: on the expected vertex positions, the largest
+// smallest angle, then the shortest total diagonal length. A fan would put slivers into the
 // hexagons and larger loops, and choosing per cell from the actual positions would cost time
 // in the hot loop for a small gain. Triangles (i, k, j) with i < k < j keep the winding.
-Triangulation triangulate_polygon(const std::vector<PolygonVertex>& polygon) {
+std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<PolygonVertex>& polygon) {
     const int n = int(polygon.size());
     struct Choice {
-        int cost = 0;
         double min_angle = std::numeric_limits<double>::infinity();
         double diagonals = 0;
         int split = -1;
     };
     constexpr double kTie = 1e-9;
     const auto better = [](const Choice& a, const Choice& b) {
-        if (a.cost != b.cost) return a.cost < b.cost;
         if (a.min_angle > b.min_angle + kTie) return true;
         if (a.min_angle < b.min_angle - kTie) return false;
         return a.diagonals < b.diagonals - kTie;
     };
     const auto is_side = [&](int i, int j) { return j - i == 1 || (i == 0 && j == n - 1); };
-    const auto cost = [&](int i, int j) {
-        return is_side(i, j) ? 0 : chord_cost(polygon[i], polygon[j]);
+    const auto allowed = [&](int i, int j) {
+        return is_side(i, j) || chord_allowed(polygon[i], polygon[j]);
     };
     const auto length = [&](int i, int j) {
         return is_side(i, j) ? 0.0 : glm::length(polygon[j].point - polygon[i].point);
@@ -201,11 +171,9 @@ Triangulation triangulate_polygon(const std::vector<PolygonVertex>& polygon) {
             for (int k = i + 1; k < j; ++k) {
                 const Choice& left = best[std::size_t(i) * n + k];
                 const Choice& right = best[std::size_t(k) * n + j];
-                const int left_cost = cost(i, k), right_cost = cost(k, j);
-                if (left_cost < 0 || right_cost < 0) continue;
+                if (!allowed(i, k) || !allowed(k, j)) continue;
                 if ((k - i > 1 && left.split < 0) || (j - k > 1 && right.split < 0)) continue;
                 Choice candidate;
-                candidate.cost = left.cost + right.cost + left_cost + right_cost;
                 candidate.min_angle = std::min(
                     {left.min_angle, right.min_angle,
                      smallest_angle(polygon[i].point, polygon[k].point, polygon[j].point)});
@@ -216,27 +184,24 @@ Triangulation triangulate_polygon(const std::vector<PolygonVertex>& polygon) {
             }
         }
     }
-    // Always feasible: the triangulation of the unwelded loop, with the triangles that collapse
-    // under welding left out, is one.
-    if (best[std::size_t(n - 1)].split < 0)
-        throw std::logic_error("marching cubes table: a polygon has no valid triangulation");
-    Triangulation result;
-    result.boundary_cost = best[std::size_t(n - 1)].cost;
+    if (n >= 3 && best[std::size_t(n - 1)].split < 0)
+        throw std::logic_error("marching cubes table: a loop needs a diagonal on a face");
+    std::vector<std::array<int, 3>> triangles;
     std::vector<std::array<int, 2>> pending{{0, n - 1}};
     while (!pending.empty()) {
         const auto [i, j] = pending.back();
         pending.pop_back();
         if (j - i < 2) continue;
         const int k = best[std::size_t(i) * n + j].split;
-        result.triangles.push_back({polygon[i].edge, polygon[k].edge, polygon[j].edge});
+        triangles.push_back({polygon[i].edge, polygon[k].edge, polygon[j].edge});
         pending.push_back({i, k});
         pending.push_back({k, j});
     }
-    return result;
+    return triangles;
 }
 
-template <class Case> void add_triangles(Case& out, const Triangulation& triangulation) {
-    for (const auto& t : triangulation.triangles) {
+void add_triangles(MarchingCubesCase& out, const std::vector<std::array<int, 3>>& triangles) {
+    for (const auto& t : triangles) {
         if (out.triangle_count == MarchingCubesCase::kMaxTriangles)
             throw std::logic_error("marching cubes table: too many triangles");
         auto& slot = out.triangles[out.triangle_count++];
@@ -278,86 +243,16 @@ MarchingCubesCase build_case(unsigned inside) {
         result.loop_size[result.loop_count++] = std::uint8_t(polygon.size());
         for (const PolygonVertex& v : polygon)
             result.loop_edges[used_edges++] = std::uint8_t(v.edge);
-        const Triangulation triangulation = triangulate_polygon(polygon);
-        if (triangulation.boundary_cost != 0)
-            throw std::logic_error("marching cubes table: a loop needs a diagonal on a face");
-        add_triangles(result, triangulation);
-    }
-    return result;
-}
-
-// The case with welded corners: each loop with the crossings of a welded corner merged into
-// one vertex (they are consecutive, see add_face_segments), re-triangulated; loops left with
-// fewer than 3 vertices vanish.
-WeldedCase build_welded_case(const MarchingCubesCase& base, unsigned inside, unsigned welded) {
-    WeldedCase result;
-    int first = 0;
-    for (int l = 0; l < base.loop_count; ++l) {
-        std::vector<int> keys; // welded corner, or 8 + edge
-        std::vector<PolygonVertex> polygon;
-        for (int i = first; i < first + base.loop_size[l]; ++i) {
-            const int e = base.loop_edges[i];
-            const int lo = cube_edge_corner(e, 0), hi = cube_edge_corner(e, 1);
-            const int in = corner_inside(inside, lo) ? lo : hi;
-            const bool weld = corner_inside(welded, in);
-            const int key = weld ? in : 8 + e;
-            if (!keys.empty() && keys.back() == key) continue;
-            keys.push_back(key);
-            polygon.push_back(weld ? corner_vertex(in, e) : edge_vertex(e));
-        }
-        first += base.loop_size[l];
-        if (keys.size() > 1 && keys.front() == keys.back()) {
-            keys.pop_back();
-            polygon.pop_back();
-        }
-        std::vector<int> sorted = keys;
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-            throw std::logic_error("marching cubes table: welded crossings not consecutive");
-        if (keys.size() < 3) continue;
-        for (int key : keys)
-            if (key < 8) result.used_corners = std::uint8_t(result.used_corners | 1u << key);
         add_triangles(result, triangulate_polygon(polygon));
     }
     return result;
 }
 
-// Corner states as a base-3 number (0 outside, 1 inside, 2 welded): the index of the welded
-// table. ternary[mask] is the mask's corners read as base-3 digits 1.
-const std::array<std::uint16_t, 256>& ternary_digits() {
-    static const std::array<std::uint16_t, 256> digits = [] {
-        std::array<std::uint16_t, 256> d{};
-        for (unsigned mask = 0; mask < 256; ++mask) {
-            unsigned value = 0, power = 1;
-            for (int c = 0; c < 8; ++c, power *= 3)
-                if (corner_inside(mask, c)) value += power;
-            d[mask] = std::uint16_t(value);
-        }
-        return d;
-    }();
-    return digits;
-}
-
-constexpr int kStates = 6561; // 3^8
-
-struct Tables {
-    std::array<MarchingCubesCase, 256> cases;
-    std::vector<WeldedCase> welded; // by ternary index
-};
-
-const Tables& tables() {
-    static const Tables built = [] {
-        Tables t;
-        for (unsigned mask = 0; mask < 256; ++mask) t.cases[mask] = build_case(mask);
-        t.welded.resize(kStates);
-        const auto& ternary = ternary_digits();
-        for (unsigned inside = 0; inside < 256; ++inside)
-            for (unsigned welded = inside;; welded = (welded - 1) & inside) { // subsets
-                t.welded[ternary[inside] + ternary[welded]] =
-                    build_welded_case(t.cases[inside], inside, welded);
-                if (welded == 0) break;
-            }
-        return t;
+const std::array<MarchingCubesCase, 256>& tables() {
+    static const std::array<MarchingCubesCase, 256> built = [] {
+        std::array<MarchingCubesCase, 256> cases;
+        for (unsigned mask = 0; mask < 256; ++mask) cases[mask] = build_case(mask);
+        return cases;
     }();
     return built;
 }
@@ -375,13 +270,7 @@ int cube_edge_corner(int edge, int end) {
 }
 
 const MarchingCubesCase& marching_cubes_case(unsigned inside_mask) {
-    return tables().cases[inside_mask & 255u];
-}
-
-const WeldedCase& welded_case(unsigned inside_mask, unsigned welded_mask) {
-    const auto& ternary = ternary_digits();
-    inside_mask &= 255u;
-    return tables().welded[ternary[inside_mask] + ternary[welded_mask & inside_mask]];
+    return tables()[inside_mask & 255u];
 }
 
 } // namespace detail
@@ -402,7 +291,6 @@ class SampleBits {
     SampleBits(glm::ivec3 dims, int words_per_row)
         : words_per_row_(words_per_row), rows_per_plane_(dims.y),
           words_(std::size_t(words_per_row) * std::size_t(dims.y) * std::size_t(dims.z), 0) {}
-    bool empty() const { return words_.empty(); }
     Word* row(int y, int z) { return words_.data() + offset(y, z); }
     const Word* row(int y, int z) const { return words_.data() + offset(y, z); }
 
@@ -419,10 +307,6 @@ class SampleBits {
 // Bit x of the result is bit x + 1 of the row.
 inline Word bits_above(const Word* row, int w, int words) {
     return (row[w] >> 1) | (w + 1 < words ? row[w + 1] << (kWordBits - 1) : Word(0));
-}
-// Bit x of the result is bit x - 1 of the row; `fill` is shifted in at x = 0.
-inline Word bits_below(const Word* row, int w, Word fill) {
-    return (row[w] << 1) | (w > 0 ? row[w - 1] >> (kWordBits - 1) : fill);
 }
 // Bits x < count within word w.
 inline Word bits_before(int count, int w) {
@@ -450,9 +334,6 @@ inline unsigned bit_pair(const Word* row, int x) {
     if (b == kWordBits - 1) v |= row[w + 1] << 1;
     return unsigned(v & 3u);
 }
-inline bool bit_at(const Word* row, int x) {
-    return ((row[x / kWordBits] >> (x % kWordBits)) & 1u) != 0;
-}
 template <class F> inline void for_each_bit(Word bits, int w, F&& f) {
     while (bits != 0) {
         f(w * kWordBits + std::countr_zero(bits));
@@ -470,31 +351,49 @@ struct CellRows {
     }
 };
 
-// Linear interpolation parameter of the crossing between samples a (t = 0) and b (t = 1), in
-// double so that it is exactly 0 only when a == iso (then the crossing is welded) and never
-// overflows; infinite samples give the end point nearer to the crossing.
-inline double crossing_parameter(float a, float b, float iso) {
-    const double t = (double(iso) - double(a)) / (double(b) - double(a));
-    if (std::isnan(t)) return std::isinf(a) ? (std::isinf(b) ? 0.5 : 1.0) : 0.0;
-    return std::clamp(t, 0.0, 1.0);
+// Where a crossing lies on its edge: linear interpolation between samples a (t = 0) and b
+// (t = 1), with t kept in [margin, 1 - margin]. A sample exactly at iso counts as inside, as if
+// it were inside by an infinitesimal amount (a symbolic perturbation of the iso value): each of
+// its crossings stays a vertex of its own, `margin` off the sample towards the outside one. So
+// the mesh is exactly the case table's surface of the segmentation, and no two vertices ever
+// coincide (two grid edges meet only at samples). t is computed in double so that it never
+// overflows; infinite samples give the end point nearer to the crossing; a NaN sample (outside)
+// gives the end point at it.
+inline float crossing_coordinate(int lower, float a, float b, float iso, double margin) {
+    double t = (double(iso) - double(a)) / (double(b) - double(a));
+    if (std::isnan(t)) t = std::isinf(a) ? (std::isinf(b) ? 0.5 : 1.0) : 0.0;
+    return float(double(lower) + std::clamp(t, margin, 1.0 - margin));
+}
+
+// The margin of crossings from samples, in voxels: 2^-10, or two float steps of the largest
+// coordinate where that is more (coordinates of 8192 and beyond). A power of two no finer than
+// the float grid, so lower + margin and lower + 1 - margin are exact floats, distinct from the
+// samples. Large enough that no triangle is degenerate by the measure of metrics.h: a triangle
+// of the case table with every crossing parameter in [m, 1 - m] has twice its area at least
+// 0.7 m times its longest edge squared (a search over all 256 cases), 7e-4 for m = 2^-10,
+// against 1e-6 for `degenerate`; the smallest, three crossings around one corner at iso, are
+// equilateral. Small enough to stay far below Marching Cubes' own error (about 1e-2 voxel).
+inline double crossing_margin(glm::ivec3 dims) {
+    int exponent = 0; // the largest coordinate is in [2^(exponent - 1), 2^exponent)
+    std::frexp(double(std::max({dims.x, dims.y, dims.z, 1}) - 1), &exponent);
+    return std::ldexp(1.0, std::max(-10, exponent - 23));
 }
 
 // ---------------------------------------------------------------------------------------------
 // (3) The passes.
 //
-// Vertex ownership: plane z owns the crossings on its x and y edges, the welded samples of the
-// plane and the crossings on the z edges up to plane z + 1. Its ids form one block: welded
-// samples, then x/y crossings row by row, then z crossings row by row. Slab z (the cells
-// between planes z and z + 1) owns a block of triangles. Both blocks are sized in the count
-// pass, so the fill pass writes disjoint ranges and could run slabs in parallel.
+// Vertex ownership: plane z owns the crossings on its x and y edges and the crossings on the z
+// edges up to plane z + 1. Its ids form one block: x/y crossings row by row, then z crossings
+// row by row. Slab z (the cells between planes z and z + 1) owns a block of triangles. Both
+// blocks are sized in the count pass, so the fill pass writes disjoint ranges and could run
+// slabs in parallel.
 
 class Extractor {
   public:
     Extractor(const Volume& volume, const MarchingCubesOptions& options, const Progress& progress)
         : volume_(volume), iso_(options.iso), above_(options.inside == InsideIs::Above),
           progress_(progress), dims_(volume.dims),
-          words_((volume.dims.x + kWordBits - 1) / kWordBits), zero_row_(std::size_t(words_), 0),
-          ones_row_(std::size_t(words_), ~Word(0)) {}
+          words_((volume.dims.x + kWordBits - 1) / kWordBits), margin_(crossing_margin(dims_)) {}
 
     Mesh run() {
         classify(); // progress 0 .. 0.35
@@ -509,238 +408,58 @@ class Extractor {
 
   private:
     struct PlaneCount {
-        std::size_t welds = 0, xy = 0, z = 0;
+        std::size_t xy = 0, z = 0;
     };
     struct PlaneIds {
-        std::vector<std::uint32_t> x, y, weld; // per sample of the plane, valid where crossed
+        std::vector<std::uint32_t> x, y; // per sample of the plane, valid where crossed
     };
-    // The crossed edges at sample row (y, z), one word at a time, split into edges with a
-    // vertex of their own and edges welded to their inside sample.
+    // The crossed edges at sample row (y, z), one word at a time.
     struct RowEdges {
-        Word x_own = 0, x_welded = 0, y_own = 0, y_welded = 0, z_own = 0, z_welded = 0;
+        Word x = 0, y = 0, z = 0;
     };
 
-    bool has_welds() const { return !weld_.empty(); }
-    const Word* weld_row(int y, int z) const {
-        return has_welds() ? weld_.row(y, z) : zero_row_.data();
-    }
-    // Welded samples that some surviving triangle uses: exactly those get a vertex.
-    Word used_welds(int y, int z, int w) const {
-        return weld_.row(y, z)[w] & (used_from_below_.row(y, z)[w] | used_from_above_.row(y, z)[w]);
-    }
     void report(float begin, float end, int step, int steps) const {
         progress_.update(begin + (end - begin) * float(step) / float(std::max(steps, 1)));
     }
 
-    // Pass 0: inside and at-iso bits of every sample, then the weld bits.
+    // Pass 0: the inside bit of every sample.
     void classify() {
         inside_ = SampleBits(dims_, words_);
-        SampleBits at_iso(dims_, words_);
-        std::vector<char> plane_at_iso(std::size_t(dims_.z), 0);
         for (int z = 0; z < dims_.z; ++z) {
-            report(0.0f, 0.25f, z, dims_.z);
-            bool any = false;
+            report(0.0f, 0.35f, z, dims_.z);
             for (int y = 0; y < dims_.y; ++y) {
                 const float* samples = volume_.samples.data() + volume_.index(0, y, z);
-                any |= above_ ? classify_row<true>(samples, inside_.row(y, z), at_iso.row(y, z))
-                              : classify_row<false>(samples, inside_.row(y, z), at_iso.row(y, z));
-            }
-            plane_at_iso[std::size_t(z)] = any;
-        }
-        bool any_weld = false;
-        for (int z = 0; z < dims_.z; ++z) {
-            report(0.25f, 0.3f, z, dims_.z);
-            if (plane_at_iso[std::size_t(z)])
-                for (int y = 0; y < dims_.y; ++y) any_weld |= keep_surface_samples(at_iso, y, z);
-        }
-        if (any_weld) {
-            weld_ = std::move(at_iso);
-            resolve_welds();
-            used_from_below_ = SampleBits(dims_, words_);
-            used_from_above_ = SampleBits(dims_, words_);
-        }
-    }
-
-    // Welding all crossings of a sample at iso into one vertex is local to that sample, but two
-    // welded samples can meet badly. Two neighbours exactly at iso put the whole grid edge
-    // between them on the surface, and cells on opposite sides of it may both triangulate
-    // across it; a plate one sample thick at iso has both of its sides welded onto the same
-    // samples. Both make edges with four triangles. So every weld is checked exactly: each edge
-    // from the welded vertex must be used once in each direction by the triangles of its 8
-    // cells (once on the volume border). A sample that fails is unwelded, and its welded
-    // neighbours are checked again. Welds are only ever removed, so this ends; without welds the
-    // surface is plain Marching Cubes, which is edge-manifold, and every weld that is left has
-    // passed its check after the last change around it. Order: scan order, then each
-    // unweld's consequences at once, so the result is deterministic. Serial, but it visits only
-    // samples exactly at iso that have an outside neighbour.
-    void resolve_welds() {
-        std::vector<glm::ivec3> recheck;
-        const auto unweld = [&](glm::ivec3 p) {
-            weld_.row(p.y, p.z)[p.x / kWordBits] &= ~(Word(1) << (p.x % kWordBits));
-            for (int dz = -1; dz <= 1; ++dz)
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const glm::ivec3 q = p + glm::ivec3(dx, dy, dz);
-                        if (glm::all(glm::greaterThanEqual(q, glm::ivec3(0))) &&
-                            glm::all(glm::lessThan(q, dims_)) && bit_at(weld_.row(q.y, q.z), q.x))
-                            recheck.push_back(q);
-                    }
-        };
-        const auto settle = [&](glm::ivec3 p) {
-            if (weld_keeps_manifold(p)) return;
-            unweld(p);
-            while (!recheck.empty()) {
-                const glm::ivec3 q = recheck.back();
-                recheck.pop_back();
-                if (bit_at(weld_.row(q.y, q.z), q.x) && !weld_keeps_manifold(q)) unweld(q);
-            }
-        };
-        for (int z = 0; z < dims_.z; ++z) {
-            report(0.3f, 0.35f, z, dims_.z);
-            for (int y = 0; y < dims_.y; ++y)
-                for (int w = 0; w < words_; ++w)
-                    for_each_bit(weld_.row(y, z)[w], w, [&](int x) {
-                        if (bit_at(weld_.row(y, z), x)) settle({x, y, z});
-                    });
-        }
-    }
-
-    // Identity of the vertex of crossed edge e of the cell at `origin`: its welded inside
-    // sample, or the edge itself.
-    std::uint64_t vertex_key(glm::ivec3 origin, int e, unsigned inside, unsigned welded) const {
-        const int lo = detail::cube_edge_corner(e, 0), hi = detail::cube_edge_corner(e, 1);
-        const int in = ((inside >> lo) & 1u) != 0 ? lo : hi;
-        const auto sample_id = [&](int corner) {
-            const glm::ivec3 q =
-                origin + glm::ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
-            return std::uint64_t(volume_.index(q.x, q.y, q.z));
-        };
-        if (((welded >> in) & 1u) != 0) return sample_id(in) * 4 + 3;
-        return sample_id(lo) * 4 + std::uint64_t(e / 4);
-    }
-
-    // Whether every edge at the welded vertex of sample p is used once in each direction.
-    bool weld_keeps_manifold(glm::ivec3 p) const {
-        const std::uint64_t self = std::uint64_t(volume_.index(p.x, p.y, p.z)) * 4 + 3;
-        // (neighbour key, +1 for an edge leaving p, +2 for one arriving), at most 8 cells x 12
-        // triangles.
-        std::array<std::pair<std::uint64_t, int>, 8 * 2 * detail::MarchingCubesCase::kMaxTriangles>
-            uses;
-        std::size_t count = 0;
-        for (int c = 0; c < 8; ++c) {
-            const glm::ivec3 origin = p - glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-            if (glm::any(glm::lessThan(origin, glm::ivec3(0))) ||
-                glm::any(glm::greaterThanEqual(origin, dims_ - 1)))
-                continue;
-            const unsigned inside = inside_rows(origin.y, origin.z).mask(origin.x);
-            const unsigned welded = weld_rows(origin.y, origin.z).mask(origin.x);
-            const detail::WeldedCase& entry = detail::welded_case(inside, welded);
-            for (int t = 0; t < entry.triangle_count; ++t) {
-                std::uint64_t key[3];
-                for (int k = 0; k < 3; ++k)
-                    key[k] = vertex_key(origin, entry.triangles[t][k], inside, welded);
-                for (int k = 0; k < 3; ++k) {
-                    if (key[k] != self) continue;
-                    uses[count++] = {key[(k + 1) % 3], 1};
-                    uses[count++] = {key[(k + 2) % 3], 2};
-                }
+                if (above_)
+                    classify_row<true>(samples, inside_.row(y, z));
+                else
+                    classify_row<false>(samples, inside_.row(y, z));
             }
         }
-        std::sort(uses.begin(), uses.begin() + std::ptrdiff_t(count));
-        // Sorted, each neighbour must appear exactly as (n, 1), (n, 2); on the volume border
-        // the surface is open and one of the two may be missing.
-        for (std::size_t i = 0; i < count;) {
-            std::size_t end = i;
-            while (end < count && uses[end].first == uses[i].first) ++end;
-            const bool pair = end - i == 2 && uses[i].second == 1 && uses[i + 1].second == 2;
-            if (!pair && !(end - i == 1 && on_common_border(p, uses[i].first))) return false;
-            i = end;
-        }
-        return true;
     }
 
-    // Whether sample p and the vertex `key` lie in one border plane of the volume.
-    bool on_common_border(glm::ivec3 p, std::uint64_t key) const {
-        const std::uint64_t index = key / 4;
-        const int along = int(key % 4); // axis of the vertex's edge, 3 for a welded sample
-        const std::uint64_t nx = std::uint64_t(dims_.x), ny = std::uint64_t(dims_.y);
-        const glm::ivec3 q(int(index % nx), int(index / nx % ny), int(index / (nx * ny)));
-        for (int axis = 0; axis < 3; ++axis) {
-            if (axis == along || q[axis] != p[axis]) continue;
-            if (p[axis] == 0 || p[axis] == dims_[axis] - 1) return true;
-        }
-        return false;
-    }
-
-    template <bool kAbove>
-    bool classify_row(const float* samples, Word* inside, Word* at_iso) const {
-        // Comparisons into bytes first (this loop vectorises), then bytes into bits.
-        alignas(64) std::uint8_t in[kWordBits], eq[kWordBits];
-        Word any_at_iso = 0;
+    template <bool kAbove> void classify_row(const float* samples, Word* inside) const {
+        // Comparisons into bytes first (this loop vectorises), then bytes into bits. NaN
+        // compares false: outside.
+        alignas(64) std::uint8_t in[kWordBits];
         for (int w = 0; w < words_; ++w) {
             const int first = w * kWordBits, n = std::min(kWordBits, dims_.x - first);
             const float* v = samples + first;
-            std::uint8_t any_eq = 0;
             if (n == kWordBits) {
-                for (int i = 0; i < kWordBits; ++i) {
-                    in[i] = kAbove ? v[i] >= iso_ : v[i] <= iso_;
-                    eq[i] = v[i] == iso_;
-                    any_eq |= eq[i];
-                }
+                for (int i = 0; i < kWordBits; ++i) in[i] = kAbove ? v[i] >= iso_ : v[i] <= iso_;
             } else {
-                for (int i = 0; i < kWordBits; ++i) {
+                for (int i = 0; i < kWordBits; ++i)
                     in[i] = i < n && (kAbove ? v[i] >= iso_ : v[i] <= iso_);
-                    eq[i] = i < n && v[i] == iso_;
-                    any_eq |= eq[i];
-                }
             }
             inside[w] = pack_bytes(in);
-            at_iso[w] = any_eq != 0 ? pack_bytes(eq) : 0;
-            any_at_iso |= at_iso[w];
         }
-        return any_at_iso != 0;
-    }
-
-    // Keeps the at-iso bits of samples with an outside neighbour (only those have crossings,
-    // so only those are candidates for a welded vertex). Returns whether any bit is left.
-    bool keep_surface_samples(SampleBits& at_iso, int y, int z) const {
-        const Word* row = inside_.row(y, z);
-        const Word* y_lo = y > 0 ? inside_.row(y - 1, z) : ones_row_.data();
-        const Word* y_hi = y + 1 < dims_.y ? inside_.row(y + 1, z) : ones_row_.data();
-        const Word* z_lo = z > 0 ? inside_.row(y, z - 1) : ones_row_.data();
-        const Word* z_hi = z + 1 < dims_.z ? inside_.row(y, z + 1) : ones_row_.data();
-        Word* candidates = at_iso.row(y, z);
-        Word any = 0;
-        for (int w = 0; w < words_; ++w) {
-            if (candidates[w] == 0) continue;
-            const Word x_lo = bits_below(row, w, Word(1)); // a missing neighbour is no crossing
-            const Word x_hi = bits_above(row, w, words_) | ~bits_before(dims_.x - 1, w);
-            candidates[w] &= ~(x_lo & x_hi & y_lo[w] & y_hi[w] & z_lo[w] & z_hi[w]);
-            any |= candidates[w];
-        }
-        return any != 0;
     }
 
     RowEdges row_edges(int y, int z, int w) const {
         RowEdges e;
         const Word* in = inside_.row(y, z);
-        const Word* weld = weld_row(y, z);
-        const Word x_crossed = (in[w] ^ bits_above(in, w, words_)) & bits_before(dims_.x - 1, w);
-        const Word x_weld = weld[w] | bits_above(weld, w, words_);
-        e.x_own = x_crossed & ~x_weld;
-        e.x_welded = x_crossed & x_weld;
-        if (y + 1 < dims_.y) {
-            const Word y_crossed = in[w] ^ inside_.row(y + 1, z)[w];
-            const Word y_weld = weld[w] | weld_row(y + 1, z)[w];
-            e.y_own = y_crossed & ~y_weld;
-            e.y_welded = y_crossed & y_weld;
-        }
-        if (z + 1 < dims_.z) {
-            const Word z_crossed = in[w] ^ inside_.row(y, z + 1)[w];
-            const Word z_weld = weld[w] | weld_row(y, z + 1)[w];
-            e.z_own = z_crossed & ~z_weld;
-            e.z_welded = z_crossed & z_weld;
-        }
+        e.x = (in[w] ^ bits_above(in, w, words_)) & bits_before(dims_.x - 1, w);
+        if (y + 1 < dims_.y) e.y = in[w] ^ inside_.row(y + 1, z)[w];
+        if (z + 1 < dims_.z) e.z = in[w] ^ inside_.row(y, z + 1)[w];
         return e;
     }
 
@@ -763,12 +482,8 @@ class Extractor {
         return {{inside_.row(y, z), inside_.row(y + 1, z), inside_.row(y, z + 1),
                  inside_.row(y + 1, z + 1)}};
     }
-    CellRows weld_rows(int y, int z) const {
-        return {{weld_row(y, z), weld_row(y + 1, z), weld_row(y, z + 1), weld_row(y + 1, z + 1)}};
-    }
 
-    // Pass 1: triangles per slab (marking which welded samples keep a triangle), then vertices
-    // per plane, then prefix sums.
+    // Pass 1: triangles per slab, then vertices per plane, then prefix sums.
     void count() {
         const detail::MarchingCubesCase* cases = &detail::marching_cubes_case(0);
         const int slabs = dims_.z - 1;
@@ -778,20 +493,9 @@ class Extractor {
             std::size_t triangles = 0;
             for (int y = 0; y + 1 < dims_.y; ++y) {
                 const CellRows rows = inside_rows(y, z);
-                const CellRows welds = weld_rows(y, z);
-                for (int w = 0; w < words_; ++w) {
-                    for_each_bit(active_cells(rows, w), w, [&](int x) {
-                        const unsigned inside = rows.mask(x);
-                        const unsigned welded = has_welds() ? welds.mask(x) : 0u;
-                        if (welded == 0) {
-                            triangles += cases[inside].triangle_count;
-                            return;
-                        }
-                        const detail::WeldedCase& entry = detail::welded_case(inside, welded);
-                        triangles += entry.triangle_count;
-                        mark_used(x, y, z, entry.used_corners);
-                    });
-                }
+                for (int w = 0; w < words_; ++w)
+                    for_each_bit(active_cells(rows, w), w,
+                                 [&](int x) { triangles += cases[rows.mask(x)].triangle_count; });
             }
             slab_triangles[std::size_t(z)] = triangles;
         }
@@ -803,17 +507,15 @@ class Extractor {
             for (int y = 0; y < dims_.y; ++y)
                 for (int w = 0; w < words_; ++w) {
                     const RowEdges e = row_edges(y, z, w);
-                    c.xy += std::size_t(std::popcount(e.x_own) + std::popcount(e.y_own));
-                    c.z += std::size_t(std::popcount(e.z_own));
-                    if (has_welds()) c.welds += std::size_t(std::popcount(used_welds(y, z, w)));
+                    c.xy += std::size_t(std::popcount(e.x) + std::popcount(e.y));
+                    c.z += std::size_t(std::popcount(e.z));
                 }
         }
 
         vertex_offset_.assign(std::size_t(dims_.z) + 1, 0);
         for (int z = 0; z < dims_.z; ++z) {
             const PlaneCount& c = plane_count_[std::size_t(z)];
-            vertex_offset_[std::size_t(z) + 1] =
-                vertex_offset_[std::size_t(z)] + c.welds + c.xy + c.z;
+            vertex_offset_[std::size_t(z) + 1] = vertex_offset_[std::size_t(z)] + c.xy + c.z;
         }
         if (vertex_offset_.back() > std::numeric_limits<std::uint32_t>::max())
             throw std::runtime_error("marching cubes: the mesh would have " +
@@ -825,17 +527,6 @@ class Extractor {
                 triangle_offset_[std::size_t(z)] + slab_triangles[std::size_t(z)];
     }
 
-    // Slab z marks plane z in used_from_above_ and plane z + 1 in used_from_below_, so two
-    // slabs never write the same word.
-    void mark_used(int x, int y, int z, unsigned corners) {
-        for (int c = 0; c < 8; ++c) {
-            if (((corners >> c) & 1u) == 0) continue;
-            const int cx = x + (c & 1), cy = y + ((c >> 1) & 1);
-            SampleBits& bits = (c & 4) != 0 ? used_from_below_ : used_from_above_;
-            bits.row(cy, z + ((c >> 2) & 1))[cx / kWordBits] |= Word(1) << (cx % kWordBits);
-        }
-    }
-
     // Pass 2 for slabs [first, last): vertex ids (and positions of the planes this range owns:
     // its own planes, plus the last plane of the volume), then triangles.
     void fill_slabs(int first, int last, Mesh& mesh) const {
@@ -845,7 +536,6 @@ class Extractor {
         for (PlaneIds* p : {&lower, &upper}) {
             p->x.assign(plane_size, 0);
             p->y.assign(plane_size, 0);
-            p->weld.assign(plane_size, 0);
         }
         std::vector<std::uint32_t> z_ids(plane_size, 0);
         assign_plane_ids(first, lower, &mesh);
@@ -853,14 +543,14 @@ class Extractor {
             report(0.4f, 1.0f, z - first, last - first);
             const bool owns_next = z + 1 < last || z + 1 == dims_.z - 1;
             assign_plane_ids(z + 1, upper, owns_next ? &mesh : nullptr);
-            assign_z_ids(z, lower, upper, z_ids, mesh);
+            assign_z_ids(z, z_ids, mesh);
             emit_triangles(z, lower, upper, z_ids, mesh);
             std::swap(lower, upper);
         }
     }
 
-    // Ids of the welded samples and of the x/y crossings of plane z; positions are written
-    // when `mesh` is given (the plane is owned by the caller's slab range).
+    // Ids of the x/y crossings of plane z; positions are written when `mesh` is given (the
+    // plane is owned by the caller's slab range).
     void assign_plane_ids(int z, PlaneIds& ids, Mesh* mesh) const {
         std::uint32_t next = std::uint32_t(vertex_offset_[std::size_t(z)]);
         const auto place = [&](glm::vec3 p) {
@@ -868,65 +558,39 @@ class Extractor {
             return next++;
         };
         const std::size_t nx = std::size_t(dims_.x);
-        if (has_welds())
-            for (int y = 0; y < dims_.y; ++y)
-                for (int w = 0; w < words_; ++w)
-                    for_each_bit(used_welds(y, z, w), w, [&](int x) {
-                        ids.weld[std::size_t(y) * nx + std::size_t(x)] =
-                            place(glm::vec3(float(x), float(y), float(z)));
-                    });
         for (int y = 0; y < dims_.y; ++y) {
             const std::size_t row = std::size_t(y) * nx;
             const float* s = volume_.samples.data() + volume_.index(0, y, z);
             const float* s_next = y + 1 < dims_.y ? s + nx : nullptr;
-            const Word* weld = weld_row(y, z);
             for (int w = 0; w < words_; ++w) {
                 const RowEdges e = row_edges(y, z, w);
-                for_each_bit(e.x_own, w, [&](int x) {
-                    const double t = crossing_parameter(s[x], s[x + 1], iso_);
-                    ids.x[row + std::size_t(x)] =
-                        place(glm::vec3(float(double(x) + t), float(y), float(z)));
+                for_each_bit(e.x, w, [&](int x) {
+                    const float px = crossing_coordinate(x, s[x], s[x + 1], iso_, margin_);
+                    ids.x[row + std::size_t(x)] = place(glm::vec3(px, float(y), float(z)));
                 });
-                for_each_bit(e.x_welded, w, [&](int x) {
-                    ids.x[row + std::size_t(x)] =
-                        ids.weld[row + std::size_t(bit_at(weld, x) ? x : x + 1)];
-                });
-                for_each_bit(e.y_own, w, [&](int x) {
-                    const double t = crossing_parameter(s[x], s_next[x], iso_);
-                    ids.y[row + std::size_t(x)] =
-                        place(glm::vec3(float(x), float(double(y) + t), float(z)));
-                });
-                for_each_bit(e.y_welded, w, [&](int x) {
-                    ids.y[row + std::size_t(x)] =
-                        ids.weld[(bit_at(weld, x) ? row : row + nx) + std::size_t(x)];
+                for_each_bit(e.y, w, [&](int x) {
+                    const float py = crossing_coordinate(y, s[x], s_next[x], iso_, margin_);
+                    ids.y[row + std::size_t(x)] = place(glm::vec3(float(x), py, float(z)));
                 });
             }
         }
     }
 
     // Ids and positions of the z crossings between planes z and z + 1 (owned by plane z).
-    void assign_z_ids(int z, const PlaneIds& lower, const PlaneIds& upper,
-                      std::vector<std::uint32_t>& ids, Mesh& mesh) const {
-        const PlaneCount& c = plane_count_[std::size_t(z)];
-        std::uint32_t next = std::uint32_t(vertex_offset_[std::size_t(z)] + c.welds + c.xy);
+    void assign_z_ids(int z, std::vector<std::uint32_t>& ids, Mesh& mesh) const {
+        std::uint32_t next =
+            std::uint32_t(vertex_offset_[std::size_t(z)] + plane_count_[std::size_t(z)].xy);
         const std::size_t nx = std::size_t(dims_.x);
         for (int y = 0; y < dims_.y; ++y) {
             const std::size_t row = std::size_t(y) * nx;
             const float* s = volume_.samples.data() + volume_.index(0, y, z);
             const float* s_next = volume_.samples.data() + volume_.index(0, y, z + 1);
-            const Word* weld = weld_row(y, z);
-            for (int w = 0; w < words_; ++w) {
-                const RowEdges e = row_edges(y, z, w);
-                for_each_bit(e.z_own, w, [&](int x) {
-                    const double t = crossing_parameter(s[x], s_next[x], iso_);
-                    mesh.positions[next] = glm::vec3(float(x), float(y), float(double(z) + t));
+            for (int w = 0; w < words_; ++w)
+                for_each_bit(row_edges(y, z, w).z, w, [&](int x) {
+                    const float pz = crossing_coordinate(z, s[x], s_next[x], iso_, margin_);
+                    mesh.positions[next] = glm::vec3(float(x), float(y), pz);
                     ids[row + std::size_t(x)] = next++;
                 });
-                for_each_bit(e.z_welded, w, [&](int x) {
-                    ids[row + std::size_t(x)] =
-                        (bit_at(weld, x) ? lower.weld : upper.weld)[row + std::size_t(x)];
-                });
-            }
         }
     }
 
@@ -937,30 +601,19 @@ class Extractor {
         const std::size_t nx = std::size_t(dims_.x);
         for (int y = 0; y + 1 < dims_.y; ++y) {
             const CellRows rows = inside_rows(y, z);
-            const CellRows welds = weld_rows(y, z);
             for (int w = 0; w < words_; ++w) {
                 for_each_bit(active_cells(rows, w), w, [&](int x) {
-                    const unsigned inside = rows.mask(x);
-                    const detail::MarchingCubesCase& entry = cases[inside];
+                    const detail::MarchingCubesCase& entry = cases[rows.mask(x)];
                     // Edge e of the cell -> vertex id, in the numbering of the table.
                     const std::size_t r0 = std::size_t(y) * nx + std::size_t(x), r1 = r0 + nx;
                     const std::uint32_t id[12] = {lower.x[r0],   lower.x[r1],     upper.x[r0],
                                                   upper.x[r1],   lower.y[r0],     lower.y[r0 + 1],
                                                   upper.y[r0],   upper.y[r0 + 1], z_ids[r0],
                                                   z_ids[r0 + 1], z_ids[r1],       z_ids[r1 + 1]};
-                    const unsigned welded = has_welds() ? welds.mask(x) : 0u;
-                    if (welded == 0) {
-                        for (int t = 0; t < entry.triangle_count; ++t) {
-                            out[0] = id[entry.triangles[t][0]];
-                            out[1] = id[entry.triangles[t][1]];
-                            out[2] = id[entry.triangles[t][2]];
-                            out += 3;
-                        }
-                        return;
-                    }
-                    const detail::WeldedCase& merged = detail::welded_case(inside, welded);
-                    for (int t = 0; t < merged.triangle_count; ++t) {
-                        for (int c = 0; c < 3; ++c) out[c] = id[merged.triangles[t][c]];
+                    for (int t = 0; t < entry.triangle_count; ++t) {
+                        out[0] = id[entry.triangles[t][0]];
+                        out[1] = id[entry.triangles[t][1]];
+                        out[2] = id[entry.triangles[t][2]];
                         out += 3;
                     }
                 });
@@ -976,11 +629,8 @@ class Extractor {
     const Progress& progress_;
     const glm::ivec3 dims_;
     const int words_;
-    const std::vector<Word> zero_row_, ones_row_;
+    const double margin_; // see crossing_margin
     SampleBits inside_;
-    SampleBits weld_;            // inside samples exactly at iso that are welded (empty: none)
-    SampleBits used_from_below_; // welded samples kept by a triangle of the slab below
-    SampleBits used_from_above_; // ... of the slab above
     std::vector<PlaneCount> plane_count_;
     std::vector<std::size_t> vertex_offset_;   // per plane, plus the total
     std::vector<std::size_t> triangle_offset_; // per slab, plus the total

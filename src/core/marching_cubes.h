@@ -2,35 +2,32 @@
 //
 // Output: an indexed mesh in index space (voxel (i, j, k) at the point (i, j, k)). Each vertex
 // lies on a grid edge whose two samples are on different sides of the iso value, placed by
-// linear interpolation, and is shared by every cell around that edge: one vertex per crossed
-// edge or welded sample (below), none unreferenced. Triangles are wound counter-clockwise seen from
-// outside: the normal cross(p1 - p0, p2 - p0) points from inside to outside. Inside is I >= iso for
+// linear interpolation, and is shared by every cell around that edge: exactly one vertex per
+// crossed edge, none unreferenced. Triangles are wound counter-clockwise seen from outside: the
+// normal cross(p1 - p0, p2 - p0) points from inside to outside. Inside is I >= iso for
 // InsideIs::Above and I <= iso for InsideIs::Below; NaN samples are outside.
 //
 // Consistency: on a face with two diagonally opposite inside corners (an ambiguous face) the
 // inside corners are always separated. Both cells sharing the face see the same four samples,
 // so they make the same choice and the surface has no cracks: it is closed, consistently
-// oriented and edge-manifold (every edge in exactly two triangles) wherever it does not reach
-// the volume border, for any input including random noise. Where it reaches the border it is
-// open there. The 256-case table is generated, not typed in; each cell's surface is one
-// triangulated polygon per closed loop of crossed edges; without welding every diagonal runs
-// through the cell's interior, so no two cells can share one.
+// oriented, edge-manifold (every edge in exactly two triangles) and vertex-manifold (the
+// triangles around each vertex form one fan) wherever it does not reach the volume border, for
+// any input including random noise. Where it reaches the border it is open there. The
+// 256-case table is generated, not typed in; each cell's surface is one triangulated polygon
+// per closed loop of crossed edges, every diagonal running through the cell's interior, so no
+// two cells can share one. The mesh depends on the samples only through the segmentation
+// (which samples are inside) and the crossing positions: its connectivity is that of the
+// binary segmentation's case table, whatever the grey values.
 //
-// Samples exactly at iso count as inside. Their crossings sit exactly on the sample and would
-// make zero-area triangles, so the crossings of such a sample are welded into one vertex on the
-// sample, and each cell's loops are triangulated with them merged (a loop left with fewer than
-// three vertices vanishes, and a sample whose loops all vanish gets no vertex). A weld is kept
-// only if afterwards every edge at its vertex is in exactly two triangles, one per direction
-// (one on the volume border).
-// Where the object is zero samples thick (a plate or line of samples exactly at iso, two
-// neighbours at iso whose grid edge the surface touches from two sides) welding would join
-// surfaces along an edge; there the crossings stay separate. The surface stays edge-manifold
-// at the price of zero-area triangles in those pinched spots: none in a plane through samples,
-// 0 to 3 per 10 000 triangles on the test CT/MRI volumes at their integer iso values, about
-// 2.5% in integer noise {0, 1, 2} at iso 1. A welded vertex may join two sheets at one point (a
-// pinch: the mesh is then not vertex-manifold there). Vertices of samples not exactly at iso but
-// closer to it than float resolution can still coincide with the sample (a geometric degeneracy
-// only).
+// Samples exactly at iso count as inside, as if inside by an infinitesimal amount (a symbolic
+// perturbation of the iso value): the crossings of such a sample stay separate vertices, each
+// kept 2^-10 voxel off the sample along its edge (more for coordinates of 8192 and beyond; see
+// crossing_margin in the .cpp), as is any crossing closer to a sample than that. Vertices
+// therefore never coincide and no triangle is degenerate by the measure of metrics.h, on any
+// input, at the price of a position error of at most 2^-10 voxel at such samples. A surface
+// running through many samples (a plane through grid points) keeps a tiny cap of triangles
+// around each of them, so its triangles are more and, on average, of lower quality than where
+// it passes between samples.
 //
 // Work is organised as passes over z-slabs (classify, count per slab, prefix sum, allocate
 // exactly, fill) as in VTK's flying edges; each slab writes only its own output ranges, so the
@@ -80,17 +77,6 @@ struct MarchingCubesCase {
 };
 const MarchingCubesCase& marching_cubes_case(unsigned inside_mask);
 int cube_edge_corner(int edge, int end);
-
-// A case with welded corners (a subset of the inside corners, exactly at iso): in each loop the
-// crossings of a welded corner are merged into one vertex, loops left with fewer than three
-// vertices vanish and the rest are triangulated again. A triangle corner is a crossed edge; if
-// its inside corner is welded, it stands for that corner's vertex.
-struct WeldedCase {
-    std::uint8_t triangle_count = 0;
-    std::uint8_t used_corners = 0; // welded corners that some triangle uses
-    std::uint8_t triangles[MarchingCubesCase::kMaxTriangles][3] = {};
-};
-const WeldedCase& welded_case(unsigned inside_mask, unsigned welded_mask);
 
 } // namespace detail
 

@@ -8,11 +8,16 @@
 
 namespace snert {
 
+IndexToWorld index_to_world_map(const Volume& volume) {
+    return {index_to_world_linear(volume), volume.origin};
+}
+
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {
     Mesh out;
     out.positions.reserve(mesh.positions.size());
-    const glm::mat3 linear = index_to_world_linear(volume);
-    for (const glm::vec3& p : mesh.positions) out.positions.push_back(volume.origin + linear * p);
+    const IndexToWorld to_world = index_to_world_map(volume);
+    const glm::mat3 linear = to_world.linear;
+    for (const glm::vec3& p : mesh.positions) out.positions.push_back(to_world(p));
     out.indices = mesh.indices;
     // A mirroring mapping (as NIfTI's RAS to LPS can be) turns the winding inside out.
     if (glm::determinant(linear) < 0.0f)

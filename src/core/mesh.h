@@ -25,6 +25,14 @@ struct Volume;
 // Keeps the winding outward even when the mapping mirrors (negative determinant).
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume);
 
+// The map mesh_to_world applies to each point, to get bit for bit the same world points.
+struct IndexToWorld {
+    glm::mat3 linear{1.0f};
+    glm::vec3 origin{0.0f};
+    glm::vec3 operator()(glm::vec3 p) const { return origin + linear * p; }
+};
+IndexToWorld index_to_world_map(const Volume& volume);
+
 struct Bounds {
     glm::vec3 min{0.0f};
     glm::vec3 max{0.0f};

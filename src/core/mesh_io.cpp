@@ -192,7 +192,10 @@ void write_counted_triangles(TextOut& out, const std::vector<std::uint32_t>& i) 
 void write_off(std::ostream& os, const Mesh& mesh) {
     TextOut out(os);
     out << "OFF\n" << mesh.positions.size() << ' ' << mesh.triangle_count() << " 0\n";
-    for (const glm::vec3& p : mesh.positions) out << p << '\n';
+    // As doubles: the shortest text that reads back as the float's exact value also in a reader
+    // that parses doubles (TetGen, the FE check), so it tests the very mesh snert measured.
+    for (const glm::vec3& p : mesh.positions)
+        out << double(p.x) << ' ' << double(p.y) << ' ' << double(p.z) << '\n';
     write_counted_triangles(out, mesh.indices);
 }
 

@@ -256,7 +256,7 @@ QualityStats quality_stats(const Mesh& mesh) {
     struct Partial {
         double quality = 0, quality60 = 0, radius_ratio = 0;
         double min_quality = 1, min_angle = 180;
-        std::size_t degenerate = 0;
+        std::size_t degenerate = 0, slivers = 0;
         std::array<std::size_t, kQualityBins> histogram{};
     };
     std::vector<Partial> partials((triangles + kTriangleChunk - 1) / kTriangleChunk);
@@ -272,6 +272,7 @@ QualityStats quality_stats(const Mesh& mesh) {
             part.min_quality = std::min(part.min_quality, double(s.quality));
             part.min_angle = std::min(part.min_angle, double(s.min_angle));
             part.degenerate += s.degenerate ? 1 : 0;
+            part.slivers += double(s.quality) < kSliverQuality ? 1 : 0;
             const int bin = std::min(kQualityBins - 1, int(s.quality * kQualityBins));
             ++part.histogram[std::size_t(std::max(0, bin))];
         }
@@ -285,6 +286,7 @@ QualityStats quality_stats(const Mesh& mesh) {
         total.min_quality = std::min(total.min_quality, part.min_quality);
         total.min_angle = std::min(total.min_angle, part.min_angle);
         total.degenerate += part.degenerate;
+        total.slivers += part.slivers;
         for (int i = 0; i < kQualityBins; ++i) total.histogram[i] += part.histogram[i];
     }
     const double n = double(triangles);
@@ -294,6 +296,7 @@ QualityStats quality_stats(const Mesh& mesh) {
     stats.radius_ratio_mean = total.radius_ratio / n;
     stats.min_angle_min = total.min_angle;
     stats.degenerate = total.degenerate;
+    stats.slivers = total.slivers;
     stats.histogram = total.histogram;
     return stats;
 }
@@ -337,7 +340,8 @@ Topology topology(const Mesh& mesh) {
     const std::size_t vertices = mesh.positions.size();
     struct Partial {
         std::size_t referenced = 0, edges = 0, boundary = 0, nonmanifold = 0;
-        bool oriented = true, single_fans = true;
+        std::size_t nonmanifold_vertices = 0;
+        bool oriented = true;
     };
     std::vector<Partial> partials((vertices + kVertexChunk - 1) / kVertexChunk);
     for_each_chunk(vertices, kVertexChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
@@ -353,7 +357,7 @@ Topology topology(const Mesh& mesh) {
             part.boundary += fan.boundary_edges;
             part.nonmanifold += fan.nonmanifold_edges;
             part.oriented = part.oriented && fan.oriented;
-            part.single_fans = part.single_fans && fan.single_fan;
+            part.nonmanifold_vertices += fan.single_fan ? 0 : 1;
         }
     });
 
@@ -370,17 +374,52 @@ Topology topology(const Mesh& mesh) {
         total.boundary += part.boundary;
         total.nonmanifold += part.nonmanifold;
         total.oriented = total.oriented && part.oriented;
-        total.single_fans = total.single_fans && part.single_fans;
+        total.nonmanifold_vertices += part.nonmanifold_vertices;
     }
     topo.boundary_edges = total.boundary;
     topo.nonmanifold_edges = total.nonmanifold;
+    topo.nonmanifold_vertices = total.nonmanifold_vertices;
     topo.euler = long(total.referenced) - long(total.edges) + long(triangles);
     const bool any = triangles > 0;
     topo.watertight =
         any && total.boundary == 0 && total.nonmanifold == 0 && topo.collapsed_triangles == 0;
-    topo.manifold = topo.watertight && total.single_fans;
+    // A fan through a non-manifold edge or a collapsed triangle is not a single fan, so the
+    // vertex count covers those cases too; the edge count is checked for clarity.
+    topo.manifold = any && total.nonmanifold == 0 && total.nonmanifold_vertices == 0 &&
+                    topo.collapsed_triangles == 0;
     topo.oriented = any && total.oriented;
     return topo;
+}
+
+std::size_t boundary_edges_off_border(const Mesh& index_mesh, glm::ivec3 dims, float margin) {
+    check_mesh(index_mesh);
+    // Only meshes with a boundary get here in practice (measure() asks when topology() found
+    // one), so a sort of all edges is fine: (smaller, larger) keys, each edge once per use.
+    std::vector<std::uint64_t> edges;
+    edges.reserve(index_mesh.indices.size());
+    for (std::size_t t = 0; t < index_mesh.triangle_count(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = index_mesh.indices[3 * t + std::size_t(k)];
+            const std::uint32_t b = index_mesh.indices[3 * t + std::size_t(k + 1) % 3];
+            if (a == b) continue; // the self-loop of a collapsed triangle
+            edges.push_back(std::uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    const glm::vec3 top = glm::vec3(dims - 1) - margin;
+    auto near_border = [&](std::uint32_t v) {
+        const glm::vec3 p = index_mesh.positions[v];
+        return glm::any(glm::lessThanEqual(p, glm::vec3(margin))) ||
+               glm::any(glm::greaterThanEqual(p, top));
+    };
+    std::size_t off = 0;
+    for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
+        for (j = i; j < edges.size() && edges[j] == edges[i]; ++j) {
+        }
+        if (j - i != 1) continue;
+        const auto a = std::uint32_t(edges[i] >> 32), b = std::uint32_t(edges[i]);
+        if (!near_border(a) || !near_border(b)) ++off;
+    }
+    return off;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -415,10 +454,24 @@ double enclosed_volume(const Mesh& mesh) {
 // ---------------------------------------------------------------------------------------------
 // Accuracy.
 
-Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance) {
+Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance, const Mesh* area_mesh) {
     check_mesh(mesh);
+    if (area_mesh && (area_mesh->indices != mesh.indices ||
+                      area_mesh->positions.size() != mesh.positions.size()))
+        throw std::invalid_argument("accuracy: the area mesh has other triangles");
+    const Mesh& areas = area_mesh ? *area_mesh : mesh;
+    // Sums of weight * |d|, of weights, and the largest |d|, per chunk.
     struct Partial {
-        double sum = 0, max = 0;
+        double sum = 0, weight = 0, max = 0;
+    };
+    auto combine = [](const std::vector<Partial>& partials) {
+        Partial total;
+        for (const Partial& part : partials) {
+            total.sum += part.sum;
+            total.weight += part.weight;
+            total.max = std::max(total.max, part.max);
+        }
+        return total;
     };
     auto measure = [&](std::size_t count, auto point_of) {
         std::vector<Partial> partials((count + kPointChunk - 1) / kPointChunk);
@@ -430,11 +483,7 @@ Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance) {
                 part.max = std::max(part.max, d);
             }
         });
-        Partial total;
-        for (const Partial& part : partials) {
-            total.sum += part.sum;
-            total.max = std::max(total.max, part.max);
-        }
+        const Partial total = combine(partials);
         return std::pair(count == 0 ? 0.0 : total.sum / double(count), total.max);
     };
     Accuracy result;
@@ -445,6 +494,42 @@ Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance) {
             const std::uint32_t* i = &mesh.indices[3 * t];
             return (mesh.positions[i[0]] + mesh.positions[i[1]] + mesh.positions[i[2]]) / 3.0f;
         });
+
+    // The surface: the sub-triangle centroids of a k-fold split, in barycentric coordinates
+    // ((i + 1/3) / k, (j + 1/3) / k) for the upright sub-triangles and ((i + 2/3) / k,
+    // (j + 2/3) / k) for the inverted ones; each stands for 1 / k^2 of the area.
+    constexpr int k = kSurfaceSampleSplit;
+    std::array<glm::dvec2, std::size_t(k * k)> samples;
+    std::size_t n = 0;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; i + j < k; ++j) {
+            samples[n++] = glm::dvec2(i + 1.0 / 3.0, j + 1.0 / 3.0) / double(k);
+            if (i + j < k - 1) samples[n++] = glm::dvec2(i + 2.0 / 3.0, j + 2.0 / 3.0) / double(k);
+        }
+    const std::size_t triangles = mesh.triangle_count();
+    std::vector<Partial> partials((triangles + kPointChunk - 1) / kPointChunk);
+    for_each_chunk(triangles, kPointChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+        Partial& part = partials[chunk];
+        for (std::size_t t = b; t < e; ++t) {
+            const glm::dvec3 a = corner(mesh, t, 0), ab = corner(mesh, t, 1) - a,
+                             ac = corner(mesh, t, 2) - a;
+            const glm::dvec3 w = corner(areas, t, 0);
+            const double area =
+                0.5 * glm::length(glm::cross(corner(areas, t, 1) - w, corner(areas, t, 2) - w));
+            if (!(area > 0) || !std::isfinite(area)) continue; // no surface to measure
+            double sum = 0;
+            for (const glm::dvec2& s : samples) {
+                const double d = std::abs(double(distance(glm::vec3(a + s.x * ab + s.y * ac))));
+                sum += d;
+                part.max = std::max(part.max, d);
+            }
+            part.sum += area * sum / double(samples.size());
+            part.weight += area;
+        }
+    });
+    const Partial surface = combine(partials);
+    result.surface_mean = surface.weight > 0 ? surface.sum / surface.weight : 0.0;
+    result.surface_max = surface.weight > 0 ? surface.max : 0.0;
     return result;
 }
 

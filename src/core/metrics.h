@@ -7,7 +7,9 @@
 // Smoothness (paper section 3): mean over interior manifold vertices of |2 pi - sum of the
 // angles of the incident triangles| (radians; best case 0, a plane).
 // Accuracy (paper eq. 7): mean distance of the vertices, and of the face centres, to a reference
-// surface, given as a distance function.
+// surface, given as a distance function; and the same over the whole surface, area-weighted.
+// The vertex figure alone flatters Marching Cubes: its vertices lie on the trilinear
+// iso-surface by construction, so their first-order distance is ~0 whatever the triangles do.
 //
 // Every function here is a pure analyser of a Mesh: it returns a plain struct and changes
 // nothing. Large meshes (millions of triangles) are processed on all hardware threads, in chunks
@@ -52,6 +54,10 @@ std::vector<float> triangle_quality(const Mesh& mesh);
 
 inline constexpr int kQualityBins = 20;
 
+// A sliver: a triangle with quality (smallest / largest angle) below this. Degenerate triangles
+// (quality 0) are slivers too.
+inline constexpr double kSliverQuality = 0.1;
+
 // Statistics over all triangles; degenerate ones take part with quality 0 (they are the worst
 // triangles, not missing ones). All zero for a mesh without triangles.
 struct QualityStats {
@@ -59,7 +65,8 @@ struct QualityStats {
     double quality60_mean = 0;    // best 1
     double radius_ratio_mean = 0; // best 1
     double min_angle_min = 0;     // degrees (best 60)
-    std::size_t degenerate = 0;   // triangles with (near) zero area, see above
+    std::size_t degenerate = 0;   // triangles with (near) zero area, see above (best 0)
+    std::size_t slivers = 0;      // triangles with quality < kSliverQuality (best 0)
     // Counts of quality over [0, 1]: bin i holds [i / kQualityBins, (i + 1) / kQualityBins), the
     // last bin also holds q = 1.
     std::array<std::size_t, kQualityBins> histogram{};
@@ -76,18 +83,31 @@ double smoothness(const Mesh& mesh);
 // An edge is an unordered pair of distinct vertices used by consecutive corners of a triangle.
 // A "collapsed" triangle repeats a vertex index; its self-loop is not an edge. For an empty mesh
 // every flag is false.
+// Closed and manifold are separate facts: a disc is manifold but not closed; two cubes sharing
+// a corner are closed but not manifold. A closed 2-manifold is `watertight && manifold`.
 struct Topology {
-    bool watertight = false; // every edge has exactly two incident triangles, none collapsed
-    bool manifold = false;   // ... and every vertex's triangles form a single fan (a closed
-                             // 2-manifold; a mesh with boundary is never `manifold`)
+    bool watertight = false; // closed: every edge has exactly two incident triangles, none
+                             // collapsed (no boundary, no non-manifold edge)
+    bool manifold = false;   // edge- and vertex-manifold, a boundary allowed: no edge of three or
+                             // more triangles, every vertex's triangles form a single fan (open
+                             // at a boundary vertex, closed inside), no collapsed triangle
     bool oriented = false;   // no edge is used twice in the same direction (so every interior
                              // edge is used once in each direction)
     long euler = 0;          // V - E + F over referenced vertices (2 for a sphere)
-    std::size_t boundary_edges = 0;    // edges of one triangle
-    std::size_t nonmanifold_edges = 0; // edges of three or more triangles
+    std::size_t boundary_edges = 0;       // edges of one triangle
+    std::size_t nonmanifold_edges = 0;    // edges of three or more triangles (best 0)
+    std::size_t nonmanifold_vertices = 0; // vertices whose triangles form more than one fan, or a
+                                          // fan through a non-manifold edge or a collapsed
+                                          // triangle (best 0)
     std::size_t collapsed_triangles = 0;
 };
 Topology topology(const Mesh& mesh);
+
+// Boundary edges (edges of one triangle) with an end farther than `margin` from every face of
+// the grid box [0, dims - 1]^3, for a mesh in index space: holes inside the volume, as opposed
+// to the cuts a surface gets where the object leaves the volume. Marching Cubes' border edges
+// lie on the box faces; a SurfaceNet's in the outermost cells, within one voxel of them.
+std::size_t boundary_edges_off_border(const Mesh& index_mesh, glm::ivec3 dims, float margin = 1.0f);
 
 // Sum of the triangle areas (accumulated in double).
 double surface_area(const Mesh& mesh);
@@ -98,15 +118,27 @@ double enclosed_volume(const Mesh& mesh);
 
 using DistanceFunction = std::function<float(glm::vec3)>;
 
+// Sample points per triangle of the surface accuracy: the centroids of the k^2 congruent
+// sub-triangles of a k-fold split of each side (the composite centroid rule), k = 3.
+inline constexpr int kSurfaceSampleSplit = 3;
+
 struct Accuracy {
-    double vertices_mean = 0, vertices_max = 0;
-    double faces_mean = 0, faces_max = 0;
+    double vertices_mean = 0, vertices_max = 0; // at the vertices (the paper's eq. 7)
+    double faces_mean = 0, faces_max = 0;       // at the triangles' centroids
+    // Over the whole surface: the area-weighted mean of |distance| at kSurfaceSampleSplit^2 fixed
+    // points of every triangle (each point stands for 1 / k^2 of its triangle's area), and the
+    // largest sample. Measures every mesh the same way, whatever its vertices are placed by.
+    double surface_mean = 0, surface_max = 0;
 };
-// Mean and max of |distance(p)| over every vertex (mesh.positions) and over every triangle's
-// centroid; a signed distance works too. `distance` is called from several threads at once, so
-// it must be thread-safe (pure functions, MeshDistance and volume sampling are). All zero for an
-// empty mesh.
-Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance);
+// Mean and max of |distance(p)| over every vertex (mesh.positions), over every triangle's
+// centroid, and area-weighted over the sample points of every triangle; a signed distance works
+// too. The weights are the triangle areas of `area_mesh` when given (the same triangles in other
+// coordinates, e.g. the world copy of an index-space mesh), else of `mesh`. `distance` is called
+// from several threads at once, so it must be thread-safe (pure functions, MeshDistance and
+// volume sampling are). Deterministic. All zero for an empty mesh; the surface figures are zero
+// when the total area is.
+Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance,
+                  const Mesh* area_mesh = nullptr);
 
 // Exact Euclidean distance from points to a triangle mesh, accelerated by a uniform grid in which
 // each triangle is listed in every cell its bounding box overlaps (cell size about the mean edge

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "triangle_intersection.h"
+
 namespace snert {
 
 namespace {
@@ -45,9 +47,16 @@ MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
     m.quality = quality_stats(world);
     m.smoothness = smoothness(world);
     m.topology = topology(world);
+    if (m.topology.boundary_edges > 0)
+        m.boundary_edges_off_border = boundary_edges_off_border(index_mesh, volume.dims);
+    // In world units: a mirroring or oblique index->world map keeps intersections as they are,
+    // and the world mesh is what gets exported and handed to a mesher.
+    m.self_intersections = count_self_intersections(world);
+    m.fe_ready = m.triangles > 0 && m.boundary_edges_off_border == 0 && m.topology.manifold &&
+                 m.self_intersections == 0 && m.quality.degenerate == 0;
     m.area = surface_area(world);
     m.volume = enclosed_volume(world);
-    if (reference) m.accuracy = accuracy(index_mesh, reference);
+    if (reference) m.accuracy = accuracy(index_mesh, reference, &world);
     return m;
 }
 
@@ -71,12 +80,16 @@ MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentatio
     SurfaceNet net = build_surface_net(segmentation, progress);
     const GreyField field = make_grey_field(grey, options.relax);
     const RelaxResult relaxed = relax(net, &field, options.relax, {}, progress);
-    Mesh mesh = triangulate(net, relaxed.positions, options.triangulation);
+    Mesh mesh = triangulate(net, relaxed.positions, options.relax.triangulation, grey.spacing);
     const double ms = elapsed_ms(start);
     MethodResult result;
     result.name = method_name(options.relax.mode);
     result.metrics = measure(mesh, grey, reference);
     result.metrics.ms = ms;
+    result.metrics.iterations = int(relaxed.max_moves.size());
+    result.metrics.converged = relaxed.converged;
+    result.metrics.final_max_move = relaxed.max_moves.empty() ? 0.0 : relaxed.max_moves.back();
+    result.metrics.shortened_moves = relaxed.shortened_moves;
     result.mesh = mesh_to_world(mesh, grey);
     return result;
 }

@@ -28,17 +28,27 @@ struct PipelineOptions {
     float iso = 0.0f; // Marching Cubes' iso (0.5 on a label mask)
     InsideIs inside = InsideIs::Above;
     RelaxOptions relax; // relax.iso: the grey iso of the gradient term (eq. 3)
-    TriangulationRule triangulation = TriangulationRule::ShorterDiagonal;
 };
 
+// What an FE mesher needs of a surface (DESIGN.md, issue 8), all of it measured by measure():
+// closed, or open only where the object leaves the volume (boundary_edges_off_border == 0);
+// manifold (edges and vertices); no self-intersecting triangle pair; no zero-area triangle.
 struct MethodMetrics {
     std::size_t vertices = 0, triangles = 0;
-    QualityStats quality;
+    QualityStats quality; // world units: slivers (q < 0.1), the smallest angle, degenerate ones
     double smoothness = 0;
     std::optional<Accuracy> accuracy; // voxel units; empty where no reference exists
-    Topology topology;
-    double area = 0, volume = 0; // world units
-    double ms = 0;               // time to build the mesh
+    Topology topology;                // closed (watertight) and manifold are separate facts
+    std::size_t boundary_edges_off_border = 0; // holes inside the volume (best 0)
+    std::size_t self_intersections = 0;        // intersecting triangle pairs, as TetGen -d (best 0)
+    bool fe_ready = false;                     // all of the above, see the comment on the struct
+    double area = 0, volume = 0;               // world units
+    double ms = 0;                             // time to build the mesh
+    // Relaxation, for the nets (left at these defaults for Marching Cubes).
+    int iterations = 0;              // relaxation iterations done
+    bool converged = false;          // stopped because the largest move fell under epsilon
+    double final_max_move = 0;       // the largest node move of the last iteration (voxels)
+    std::size_t shortened_moves = 0; // node moves shortened to keep the mesh valid (summed)
 };
 
 struct MethodResult {
@@ -51,7 +61,8 @@ struct MethodResult {
 // analytic surface; for real data the first-order distance |I(p) - iso| / |grad I(p)|.
 DistanceFunction first_order_distance(const Volume& volume, float iso);
 
-// Measures a mesh given in index space; the mesh's world copy is used for angles and areas.
+// Measures a mesh given in index space; the mesh's world copy is used for angles and areas (and
+// the areas that weight the surface accuracy), the index-space mesh for accuracy and the border.
 MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
                       const DistanceFunction& reference);
 

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh_guard.h"
 #include "parallel.h"
 
 namespace snert {
@@ -35,8 +36,10 @@ glm::vec3 averaging_vector(const SurfaceNet& net, std::span<const glm::vec3> pos
 }
 
 struct GradientStep {
-    glm::vec3 g{0.0f}; // unit direction towards the iso-surface, or 0 (eq. 3)
-    float d = 0.0f;    // distance to the iso-surface along g (eq. 4)
+    glm::vec3 g{0.0f};    // unit direction towards the iso-surface in world shape, or 0 (eq. 3)
+    glm::vec3 step{0.0f}; // the index-space move of one world unit (of the smallest spacing)
+                          // along g
+    float d = 0.0f;       // distance to the iso-surface along g (eq. 4), same unit
 };
 
 glm::vec3 grey_gradient(const GreyField& grey, glm::vec3 p) {
@@ -46,20 +49,23 @@ glm::vec3 grey_gradient(const GreyField& grey, glm::vec3 p) {
 
 // g = SIGN(Iiso - I(p)) grad I / |grad I| (eq. 3), and d from a linear model of I along g:
 // I is sampled at p and at p + h g, with h the first-order distance estimate, so the second
-// sample lands near the surface and the two samples bracket or nearly bracket it.
+// sample lands near the surface and the two samples bracket or nearly bracket it. Directions
+// and distances are those of world space (index offsets times grey.scale), so on thick slices
+// the node moves along the true normal.
 GradientStep gradient_step(const GreyField& grey, glm::vec3 p) {
     GradientStep step;
     const float value = sample_trilinear(*grey.volume, p);
-    const glm::vec3 gradient = grey_gradient(grey, p);
+    const glm::vec3 gradient = grey_gradient(grey, p) / grey.scale;
     const float length = glm::length(gradient);
     if (!(length > kMinGradient) || !std::isfinite(value)) return step;
     const float difference = grey.iso - value;
     // On the iso-surface d is 0 but g still defines the plane of eq. 5's projection.
     step.g = (difference >= 0.0f ? 1.0f : -1.0f) * gradient / length;
+    step.step = step.g / grey.scale;
     if (difference == 0.0f) return step;
     const float first_order = std::abs(difference) / length;
     const float h = std::clamp(first_order, 0.05f, kMaxDistance);
-    const float ahead = sample_trilinear(*grey.volume, p + h * step.g);
+    const float ahead = sample_trilinear(*grey.volume, p + h * step.step);
     // Slope of I along g, signed so that it is positive when I approaches iso along g.
     const float slope = (ahead - value) / h * (difference > 0.0f ? 1.0f : -1.0f);
     step.d = slope > kMinGradient ? std::abs(difference) / slope : first_order;
@@ -77,12 +83,40 @@ glm::vec3 node_move(const SurfaceNet& net, const GreyField* grey, const RelaxOpt
     const GradientStep step = use_grey ? gradient_step(*grey, p) : GradientStep{};
     if (smoothing && options.mode != RelaxMode::Gradient) {
         glm::vec3 a = averaging_vector(net, positions, node);
-        // eq. 5: in SNERT's simultaneous step the averaging acts only within the iso-surface.
-        if (options.mode == RelaxMode::Snert && use_grey) a -= step.g * glm::dot(a, step.g);
+        // eq. 5: in SNERT's simultaneous step the averaging acts only within the iso-surface
+        // (the projection taken in world shape).
+        if (options.mode == RelaxMode::Snert && use_grey) {
+            const glm::vec3 world = a * grey->scale;
+            a = (world - step.g * glm::dot(world, step.g)) / grey->scale;
+        }
         move += options.smoothing_weight * a;
     }
-    if (use_grey) move += options.gradient_weight * step.d * step.g; // eq. 4 / eq. 6
+    if (use_grey) move += options.gradient_weight * step.d * step.step; // eq. 4 / eq. 6
     return move;
+}
+
+// A node keeps a margin away from its box's faces (a flat box stays flat): then the triangles
+// of two quads without a common cell cannot even touch, which is what lets keep_mesh_valid look
+// only within cells. The margin must survive the rounding of the world map (its points are what
+// is checked and written): 2^-12 voxel, more where the world coordinates are large against the
+// spacing. It costs nothing measurable (the sphere's vertex error moves by 1e-5 voxel).
+constexpr float kMinCellMargin = 1.0f / 4096.0f;
+
+float cell_margin(const GreyField* grey) {
+    if (grey == nullptr) return kMinCellMargin;
+    const Volume& v = *grey->volume;
+    const float extent =
+        glm::length(glm::abs(v.origin)) + glm::length(glm::vec3(v.dims) * glm::abs(v.spacing));
+    const float smallest = std::min({v.spacing.x, v.spacing.y, v.spacing.z});
+    if (!(smallest > 0.0f) || !std::isfinite(extent)) return kMinCellMargin;
+    // Eight float roundings of the largest world coordinate, in voxels.
+    return std::max(kMinCellMargin, 8.0f * extent * 0x1p-24f / smallest);
+}
+
+NodeBox inner_box(NodeBox box, float margin) {
+    for (int a = 0; a < 3; ++a)
+        if (box.hi[a] > box.lo[a]) box.lo[a] += margin, box.hi[a] -= margin;
+    return box;
 }
 
 float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
@@ -90,6 +124,7 @@ float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
                   bool smoothing, bool gradient) {
     // Jacobi: every node reads only old positions, so chunks of nodes run independently.
     constexpr std::size_t kChunk = 4096;
+    const float margin = cell_margin(grey);
     std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
     for_each_chunk(
         old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
@@ -97,8 +132,9 @@ float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
             for (std::size_t i = begin; i < end; ++i) {
                 const glm::vec3 move = node_move(net, grey, options, old_positions,
                                                  std::uint32_t(i), smoothing, gradient);
+                const NodeBox box = inner_box(node_box(net, i), margin);
                 new_positions[i] =
-                    constrain_move(old_positions[i], move, net.cells[i], options.constraint);
+                    constrain_move(old_positions[i], move, box.lo, box.hi, options.constraint);
                 local = std::max(local, glm::length(new_positions[i] - old_positions[i]));
             }
             chunk_max[chunk] = local;
@@ -113,15 +149,24 @@ GreyField make_grey_field(const Volume& volume, const RelaxOptions& options) {
     GreyField grey;
     grey.volume = &volume;
     grey.iso = options.iso;
+    const float smallest = std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z});
+    if (smallest > 0.0f && std::isfinite(smallest)) grey.scale = volume.spacing / smallest;
     if (options.gradient == GradientMethod::Gaussian)
         grey.gradient = gradient_field_gaussian(volume, options.gradient_sigma);
     return grey;
 }
 
 glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constraint constraint) {
-    const glm::vec3 lo(cell), hi = lo + 1.0f;
+    return constrain_move(p, move, glm::vec3(cell), glm::vec3(cell) + 1.0f, constraint);
+}
+
+glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi,
+                         Constraint constraint) {
     if (!std::isfinite(move.x) || !std::isfinite(move.y) || !std::isfinite(move.z)) return p;
     if (constraint == Constraint::Clip) return glm::clamp(p + move, lo, hi);
+    // A flat box (a link node's face) takes only the move within it.
+    for (int a = 0; a < 3; ++a)
+        if (!(hi[a] > lo[a])) move[a] = 0.0f;
     // Ray-box (eq. 2's c): the largest t in [0, 1] with p + t move inside the cell, so the node
     // keeps its direction of motion and stops on the cell boundary.
     float t = 1.0f;
@@ -136,16 +181,39 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constrain
     return glm::clamp(p + t * move, lo, hi);
 }
 
+float step_scale(const RelaxOptions& options, int iteration) {
+    if (iteration <= options.damping_start || !(options.damping_halving > 0.0f)) return 1.0f;
+    return std::exp2(-float(iteration - options.damping_start) / options.damping_halving);
+}
+
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                 std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions) {
+                 int iteration, std::span<const glm::vec3> old_positions,
+                 std::span<glm::vec3> new_positions, std::size_t* shortened) {
     const bool two_terms = options.mode == RelaxMode::Snert && grey != nullptr;
-    if (options.schedule == Schedule::Simultaneous || !two_terms)
-        return jacobi_pass(net, grey, options, old_positions, new_positions, true, true);
-    // "Smoothing first, ending with the favoured goal": two Jacobi sub-steps, each with one term.
-    std::vector<glm::vec3> middle(old_positions.size());
-    const bool first_smooth = options.favour_accuracy;
-    jacobi_pass(net, grey, options, old_positions, middle, first_smooth, !first_smooth);
-    jacobi_pass(net, grey, options, middle, new_positions, !first_smooth, first_smooth);
+    if (options.schedule == Schedule::Simultaneous || !two_terms) {
+        jacobi_pass(net, grey, options, old_positions, new_positions, true, true);
+    } else {
+        // "Smoothing first, ending with the favoured goal": two Jacobi sub-steps, one term each.
+        std::vector<glm::vec3> middle(old_positions.size());
+        const bool first_smooth = options.favour_accuracy;
+        jacobi_pass(net, grey, options, old_positions, middle, first_smooth, !first_smooth);
+        jacobi_pass(net, grey, options, middle, new_positions, !first_smooth, first_smooth);
+    }
+    // Safeguards: the damping schedule (a point of the cell's box stays in the box when its
+    // move is shortened), then the mesh's validity.
+    if (const float scale = step_scale(options, iteration); scale < 1.0f)
+        for (std::size_t i = 0; i < old_positions.size(); ++i)
+            new_positions[i] = old_positions[i] + scale * (new_positions[i] - old_positions[i]);
+    // The spacing the pipeline triangulates with and the world points it exports, so the guard
+    // sees the very mesh that is measured and written.
+    const glm::vec3 spacing = grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f);
+    const IndexToWorld to_world =
+        grey != nullptr ? index_to_world_map(*grey->volume) : IndexToWorld{};
+    const std::size_t refused = options.keep_valid
+                                    ? keep_mesh_valid(net, options.triangulation, spacing, to_world,
+                                                      old_positions, new_positions)
+                                    : 0;
+    if (shortened != nullptr) *shortened = refused;
     float max_move = 0.0f;
     for (std::size_t i = 0; i < old_positions.size(); ++i)
         max_move = std::max(max_move, glm::length(new_positions[i] - old_positions[i]));
@@ -159,7 +227,10 @@ RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
     std::vector<glm::vec3> next(result.positions.size());
     for (int it = 1; it <= options.max_iterations; ++it) {
         progress.update(float(it - 1) / float(options.max_iterations));
-        const float max_move = relax_step(net, grey, options, result.positions, next);
+        std::size_t shortened = 0;
+        const float max_move =
+            relax_step(net, grey, options, it, result.positions, next, &shortened);
+        result.shortened_moves += shortened;
         result.positions.swap(next);
         result.max_moves.push_back(max_move);
         if (on_iteration && !on_iteration({it, max_move}, result.positions)) break;

@@ -22,6 +22,7 @@
 
 #include "progress.h"
 #include "surface_net.h"
+#include "triangulation.h"
 #include "volume.h"
 
 namespace snert {
@@ -43,6 +44,16 @@ struct RelaxOptions {
     float iso = 0.0f;            // Iiso of eq. 3
     int max_iterations = 20;     // stop after this many iterations
     float epsilon = 1e-4f;       // ... or when the largest move (voxels) falls under this
+    // How the quads are split (section 2.5); the step keeps the mesh so split valid.
+    TriangulationRule triangulation = TriangulationRule::ShorterDiagonal;
+    // Safeguard of the step length: from this iteration on every move is scaled by
+    // 2^-((k - damping_start) / damping_halving), so a node that cannot settle (its cell holds
+    // no iso-surface point it can reach, and it bounces between faces) still comes to rest.
+    int damping_start = 100;
+    // Refuse (shorten) moves that would make the triangulated net self-intersect or add a sliver
+    // (mesh_guard.h). Off only to see what the paper's plain step does.
+    bool keep_valid = true;
+    float damping_halving = 10.0f;
 };
 
 // What the gradient term needs: the grey volume, and the gradient field when precomputed.
@@ -51,17 +62,25 @@ struct GreyField {
     const Volume* volume = nullptr;
     GradientField gradient; // empty: central differences on the fly
     float iso = 0.0f;
+    glm::vec3 scale{1.0f}; // spacing / smallest spacing: index offsets to world shape
 };
 GreyField make_grey_field(const Volume& volume, const RelaxOptions& options);
 
 // Returns the point of the cell [cell, cell + 1] reached from p along move, shortened by the
 // constraint so that it stays inside the cell.
 glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constraint constraint);
+// The same for the box [lo, hi] (a node's region, see surface_net.h).
+glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi,
+                         Constraint constraint);
 
-// One Jacobi iteration: computes every node's new position from `old_positions` into
-// `new_positions` (same size) and returns the largest move length (voxels).
+// Iteration `iteration` (1 for the first): computes every node's new position from
+// `old_positions` into `new_positions` (same size) and returns the largest move length
+// (voxels). The result depends only on its arguments (the app recomputes iterations from
+// keyframes). Moves are damped after options.damping_start and shortened where the mesh would
+// stop being valid (mesh_guard.h); `shortened`, when given, receives how many were.
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                 std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions);
+                 int iteration, std::span<const glm::vec3> old_positions,
+                 std::span<glm::vec3> new_positions, std::size_t* shortened = nullptr);
 
 struct RelaxIteration {
     int iteration = 0;  // 1 for the first iteration
@@ -74,8 +93,9 @@ using IterationCallback =
 
 struct RelaxResult {
     std::vector<glm::vec3> positions;
-    std::vector<float> max_moves; // per iteration
-    bool converged = false;       // stopped because max move < epsilon
+    std::vector<float> max_moves;    // per iteration
+    bool converged = false;          // stopped because max move < epsilon
+    std::size_t shortened_moves = 0; // node moves shortened to keep the mesh valid, summed
 };
 
 // Runs iterations until max_iterations or convergence. `grey` may be null for Averaging.

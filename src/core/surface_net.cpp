@@ -3,21 +3,95 @@
 // This work is based on:
 //   S. F. F. Gibson, "Constrained elastic SurfaceNets", MICCAI 1998 (nodes, links, relaxation);
 //   P. W. de Bruin et al., "Improving triangle mesh quality with SurfaceNets", MICCAI 2000
-//   (quads found per grid edge, section 2.5).
+//   (quads found per grid edge, section 2.5);
+//   G. M. Nielson, "Dual marching cubes", IEEE Visualization 2004 (one node per piece of the
+//   Marching Cubes case, which makes the net the dual of the MC surface).
 //
-// Passes over z-slabs of cells, as in VTK's flying edges: classify and count surface cells,
-// prefix-sum the counts into node ids, then fill nodes, links and quads. Node ids follow the
-// cells' x-fastest order, so the output does not depend on how slabs are scheduled. Nodes are
-// looked up per row (binary search over x) instead of through a full cell-sized index, which
+// Passes over rows of cells, as in VTK's flying edges: classify and count nodes, prefix-sum the
+// counts into node ids, then fill nodes, links and quads. Node ids follow the cells' x-fastest
+// order (pieces of one cell in loop order), so the output does not depend on scheduling. Nodes
+// are looked up per row (binary search over x) instead of through a full cell-sized index, which
 // keeps memory proportional to the surface, not the volume.
 #include "surface_net.h"
 
 #include <algorithm>
 #include <stdexcept>
 
+#include "marching_cubes.h"
+
 namespace snert {
 
+namespace detail {
+
+int surface_piece_of_edge(unsigned inside_mask, int edge) {
+    // 256 cases x 12 edges, derived once from the Marching Cubes table.
+    static const auto table = [] {
+        std::array<std::array<std::int8_t, 12>, 256> pieces{};
+        for (unsigned mask = 0; mask < 256; ++mask) {
+            pieces[mask].fill(-1);
+            const MarchingCubesCase& c = marching_cubes_case(mask);
+            int first = 0;
+            for (int loop = 0; loop < c.loop_count; ++loop) {
+                for (int i = first; i < first + c.loop_size[loop]; ++i)
+                    pieces[mask][c.loop_edges[i]] = std::int8_t(loop);
+                first += c.loop_size[loop];
+            }
+        }
+        return pieces;
+    }();
+    return table[inside_mask & 255u][std::size_t(edge)];
+}
+
+} // namespace detail
+
 namespace {
+
+// The two axes other than `axis`, lower first: the order of an edge's offset bits.
+glm::ivec2 other_axes(int axis) {
+    return axis == 0 ? glm::ivec2(1, 2) : axis == 1 ? glm::ivec2(0, 2) : glm::ivec2(0, 1);
+}
+
+// Cube edge along `axis` whose lower end sits at `offset` (0 or 1 on the other axes).
+int cube_edge(int axis, glm::ivec3 offset) {
+    const glm::ivec2 o = other_axes(axis);
+    return axis * 4 + offset[o.x] + 2 * offset[o.y];
+}
+
+glm::vec3 edge_midpoint(int edge) {
+    const int axis = edge / 4;
+    const glm::ivec2 o = other_axes(axis);
+    glm::vec3 m(0.0f);
+    m[axis] = 0.5f;
+    m[o.x] = float(edge & 1);
+    m[o.y] = float((edge >> 1) & 1);
+    return m;
+}
+
+// The region code (surface_net.h) of the box [lo, hi] of a piece's edge midpoints. Along an
+// axis where all midpoints agree the box is widened to the half cell on their side (the whole
+// cell when they sit in the middle), so the node can still leave the plane of its edges.
+std::uint8_t piece_region(glm::vec3 lo, glm::vec3 hi) {
+    unsigned region = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        unsigned code = 0;
+        if (hi[axis] <= 0.5f && lo[axis] < 0.5f) code = 1;
+        if (lo[axis] >= 0.5f && hi[axis] > 0.5f) code = 2;
+        region |= code << (2 * axis);
+    }
+    return std::uint8_t(region);
+}
+
+// Inside mask of cell c: bit k set when corner k (offset (k & 1, k >> 1 & 1, k >> 2 & 1)) is in.
+unsigned cell_mask(const Segmentation& s, glm::ivec3 c) {
+    unsigned mask = 0;
+    for (int k = 0; k < 8; ++k)
+        if (s.at(c.x + (k & 1), c.y + ((k >> 1) & 1), c.z + ((k >> 2) & 1))) mask |= 1u << k;
+    return mask;
+}
+
+int piece_count(unsigned mask) {
+    return detail::marching_cubes_case(mask).loop_count;
+}
 
 // Per row of voxels: 0 when all outside, 1 when all inside, 2 when mixed. A row of cells whose
 // four voxel rows are uniform and equal holds no surface cell and is skipped (the trimming idea
@@ -33,7 +107,7 @@ std::vector<std::uint8_t> classify_rows(const Segmentation& s) {
     return rows;
 }
 
-// Visits the surface cells of cell row (y, z) in increasing x: visit(x).
+// Visits the surface cells of cell row (y, z) in increasing x: visit(x, inside mask).
 template <class Visit>
 void for_each_surface_cell_in_row(const Segmentation& s, const std::vector<std::uint8_t>& rows,
                                   int y, int z, Visit&& visit) {
@@ -44,33 +118,29 @@ void for_each_surface_cell_in_row(const Segmentation& s, const std::vector<std::
         rows[r00] == rows[r11])
         return;
     const std::size_t nx = std::size_t(s.dims.x);
-    const std::uint8_t* a = &s.inside[r00 * nx];
-    const std::uint8_t* b = &s.inside[r10 * nx];
-    const std::uint8_t* c = &s.inside[r01 * nx];
-    const std::uint8_t* d = &s.inside[r11 * nx];
-    // Column sums 0..4 of the four rows: a cell is mixed unless both its columns are 0 or both 4.
-    int left = a[0] + b[0] + c[0] + d[0];
+    const std::uint8_t* a = &s.inside[r00 * nx]; // corners (., 0, 0)
+    const std::uint8_t* b = &s.inside[r10 * nx]; // corners (., 1, 0)
+    const std::uint8_t* c = &s.inside[r01 * nx]; // corners (., 0, 1)
+    const std::uint8_t* d = &s.inside[r11 * nx]; // corners (., 1, 1)
+    // Four bits per column (one per row); a cell's mask is its two columns side by side.
+    const auto column = [&](int x) {
+        return unsigned(a[x] != 0) | unsigned(b[x] != 0) << 1 | unsigned(c[x] != 0) << 2 |
+               unsigned(d[x] != 0) << 3;
+    };
+    unsigned left = column(0);
     for (int x = 0; x + 1 < s.dims.x; ++x) {
-        const int right = a[x + 1] + b[x + 1] + c[x + 1] + d[x + 1];
-        if (!(left == right && (left == 0 || left == 4))) visit(x);
+        const unsigned right = column(x + 1);
+        if (!(left == right && (left == 0 || left == 15))) {
+            // Corner k = dx | dy << 1 | dz << 2; column bit j = dy | dz << 1.
+            unsigned mask = 0;
+            for (unsigned j = 0; j < 4; ++j) {
+                mask |= ((left >> j) & 1u) << (2 * j);
+                mask |= ((right >> j) & 1u) << (2 * j + 1);
+            }
+            visit(x, mask);
+        }
         left = right;
     }
-}
-
-// The face between cell c and its neighbour along +axis: the 4 voxels at c[axis] + 1.
-bool face_is_mixed(const Segmentation& s, glm::ivec3 c, int axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    glm::ivec3 p = c;
-    p[axis] += 1;
-    bool any_in = false, any_out = false;
-    for (int du = 0; du < 2; ++du)
-        for (int dv = 0; dv < 2; ++dv) {
-            glm::ivec3 q = p;
-            q[u] += du;
-            q[v] += dv;
-            (s.at(q.x, q.y, q.z) ? any_in : any_out) = true;
-        }
-    return any_in && any_out;
 }
 
 class NodeIndex {
@@ -78,8 +148,8 @@ class NodeIndex {
     NodeIndex(const SurfaceNet& net, std::vector<std::uint32_t> row_offsets)
         : net_(net), row_offsets_(std::move(row_offsets)) {}
 
-    // Node id of cell c, which must be a surface cell.
-    std::uint32_t operator()(glm::ivec3 c) const {
+    // First node id of cell c, which must be a surface cell.
+    std::uint32_t first_of(glm::ivec3 c) const {
         const std::size_t row = std::size_t(c.z) * std::size_t(net_.cell_dims.y) + std::size_t(c.y);
         auto first = net_.cells.begin() + row_offsets_[row];
         auto last = net_.cells.begin() + row_offsets_[row + 1];
@@ -93,6 +163,256 @@ class NodeIndex {
     std::vector<std::uint32_t> row_offsets_;
 };
 
+// The node of cell c (inside mask `mask`) whose piece holds cube edge `edge` (crossed).
+std::uint32_t node_of_edge(const NodeIndex& index, glm::ivec3 c, unsigned mask, int edge) {
+    const int piece = detail::surface_piece_of_edge(mask, edge);
+    if (piece < 0) throw std::logic_error("surface net: a quad edge is not crossed");
+    return index.first_of(c) + std::uint32_t(piece);
+}
+
+// The segments of the Marching Cubes case on the cell's +axis face, each as its two crossed
+// edges. Two crossings make one segment; four (an ambiguous face) make two, each cutting off
+// one inside corner, the rule Marching Cubes uses.
+struct FaceSegments {
+    int count = 0;
+    std::array<std::array<int, 2>, 2> edges{};
+};
+
+FaceSegments face_segments(unsigned mask, int axis) {
+    const glm::ivec2 in_face = other_axes(axis);
+    FaceSegments face;
+    std::array<int, 4> crossed{};
+    int crossings = 0;
+    for (int edge = 0; edge < 12; ++edge) {
+        if (edge / 4 == axis) continue;
+        const glm::ivec2 o = other_axes(edge / 4);
+        const int on_face = o.x == axis ? (edge & 1) : ((edge >> 1) & 1);
+        if (on_face == 1 && detail::surface_piece_of_edge(mask, edge) >= 0)
+            crossed[std::size_t(crossings++)] = edge;
+    }
+    if (crossings == 2) {
+        face.count = 1;
+        face.edges[0] = {crossed[0], crossed[1]};
+    } else if (crossings == 4) {
+        for (int k = 0; k < 8; ++k) {
+            const glm::ivec3 corner(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+            if (corner[axis] != 1 || ((mask >> k) & 1u) == 0) continue;
+            std::array<int, 2> segment{};
+            for (int w = 0; w < 2; ++w) {
+                glm::ivec3 lower = corner;
+                lower[in_face[w]] = 0;
+                segment[std::size_t(w)] = cube_edge(in_face[w], lower);
+            }
+            face.edges[std::size_t(face.count++)] = segment;
+        }
+    }
+    return face;
+}
+
+// Edge on the cell's +axis face, seen from the neighbouring cell (where it is on the -axis face).
+int edge_across_face(int edge, int axis) {
+    const glm::ivec2 o = other_axes(edge / 4);
+    return edge - (o.x == axis ? 1 : 2);
+}
+
+// A grid edge as a number: its lower voxel's index * 3 + its axis.
+std::uint64_t edge_key(const Segmentation& s, glm::ivec3 cell, int edge) {
+    const int axis = edge / 4;
+    const glm::ivec2 o = other_axes(axis);
+    glm::ivec3 p = cell;
+    p[o.x] += edge & 1;
+    p[o.y] += (edge >> 1) & 1;
+    return std::uint64_t(s.index(p.x, p.y, p.z)) * 3 + std::uint64_t(axis);
+}
+
+// Where both segments of an ambiguous face join the same two pieces a and b, the net would
+// link a and b twice and the four quads of the face's crossed edges would all hold the side
+// a-b (a non-manifold edge; the cell complex is fine, its triangulation is not). The second
+// segment gets a node m of its own, on the face: links a-m-b, and m is inserted into the side
+// a-b of the two quads of that segment's crossed edges (add_quad).
+struct LinkNode {
+    std::uint32_t node = 0; // m
+    glm::ivec3 cell{0};     // the cell below the face: m's cell constraint
+    std::uint32_t a = 0, b = 0;
+    std::array<std::uint64_t, 2> edges{}; // the segment's grid edges (edge_key)
+    std::array<int, 2> cube_edges{};      // ... as edges of `cell`
+    int axis = 0;                         // the face is at cell[axis] + 1
+};
+
+void add_link_nodes(SurfaceNet& net, const std::vector<LinkNode>& link_nodes) {
+    for (const LinkNode& l : link_nodes) {
+        net.cells.push_back(l.cell);
+        net.pieces.push_back(kLinkNodePiece);
+        // On the face, in the quarter the segment cuts off; it starts at the segment's middle.
+        const glm::vec3 m =
+            0.5f * (edge_midpoint(l.cube_edges[0]) + edge_midpoint(l.cube_edges[1]));
+        std::uint8_t region = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            const unsigned code = axis == l.axis ? 3u : m[axis] < 0.5f ? 1u : 2u;
+            region = std::uint8_t(region | code << (2 * axis));
+        }
+        net.regions.push_back(region);
+        net.positions.push_back(glm::vec3(l.cell) + m);
+    }
+}
+
+std::vector<std::pair<std::uint64_t, std::uint32_t>>
+sorted_split_edges(const std::vector<LinkNode>& link_nodes) {
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
+    for (std::uint32_t k = 0; k < link_nodes.size(); ++k)
+        for (std::uint64_t e : link_nodes[k].edges) edges.push_back({e, k});
+    std::sort(edges.begin(), edges.end());
+    return edges;
+}
+
+// Adds the polygon of one crossed grid edge: its quad, where no link node splits a side; else
+// the quad with the link nodes inserted into their sides (up to one per side), fanned into
+// triangles from the first link node, same winding. The fan's triangles are fixed (no choice of
+// diagonal later), which is acceptable for the rare cells that need them.
+void add_quad(SurfaceNet& net, const std::array<std::uint32_t, 4>& quad,
+              const std::vector<LinkNode>& link_nodes,
+              const std::vector<std::pair<std::uint64_t, std::uint32_t>>& split_edges,
+              std::uint64_t key) {
+    auto it = std::lower_bound(split_edges.begin(), split_edges.end(),
+                               std::make_pair(key, std::uint32_t(0)));
+    if (it == split_edges.end() || it->first != key) {
+        net.quads.push_back(quad);
+        return;
+    }
+    std::array<std::uint32_t, 8> polygon{};
+    int size = 0, fan = -1;
+    for (int k = 0; k < 4; ++k) {
+        const std::uint32_t from = quad[std::size_t(k)], to = quad[std::size_t((k + 1) % 4)];
+        polygon[std::size_t(size++)] = from;
+        for (auto s = it; s != split_edges.end() && s->first == key; ++s) {
+            const LinkNode& l = link_nodes[s->second];
+            if ((from == l.a && to == l.b) || (from == l.b && to == l.a)) {
+                if (fan < 0) fan = size;
+                polygon[std::size_t(size++)] = l.node;
+            }
+        }
+    }
+    if (fan < 0) throw std::logic_error("surface net: a split link is not a side of its quad");
+    for (int k = 1; k + 1 < size; ++k)
+        net.triangles.push_back({polygon[std::size_t(fan)], polygon[std::size_t((fan + k) % size)],
+                                 polygon[std::size_t((fan + k + 1) % size)]});
+}
+
+void add_stars(SurfaceNet& net) {
+    const std::size_t quads = net.quads.size();
+    auto for_each_corner = [&](auto&& visit) {
+        for (std::size_t q = 0; q < quads; ++q)
+            for (std::uint32_t n : net.quads[q]) visit(n, std::uint32_t(q));
+        for (std::size_t t = 0; t < net.triangles.size(); ++t)
+            for (std::uint32_t n : net.triangles[t]) visit(n, std::uint32_t(quads + t));
+    };
+    net.star_offsets.assign(net.node_count() + 1, 0);
+    for_each_corner([&](std::uint32_t n, std::uint32_t) { ++net.star_offsets[n + 1]; });
+    for (std::size_t i = 0; i < net.node_count(); ++i)
+        net.star_offsets[i + 1] += net.star_offsets[i];
+    net.star.resize(net.star_offsets.back());
+    std::vector<std::uint32_t> cursor(net.star_offsets.begin(), net.star_offsets.end() - 1);
+    for_each_corner(
+        [&](std::uint32_t n, std::uint32_t polygon) { net.star[cursor[n]++] = polygon; });
+}
+
+// At the volume border the quads of border grid edges are missing, and a node whose piece
+// leaves the volume twice keeps two separate fans of polygons: a pinched (non-manifold) vertex,
+// where Marching Cubes' open surface has two separate rims. Such a node gets a copy per extra
+// fan (same cell and region), which takes that fan's polygons and links; each starts a little
+// towards its own fan so the two are apart.
+void split_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint32_t, 2>>& links) {
+    const std::size_t nodes = net.node_count();
+    // Polygons around each node, and each polygon's corners as a small list.
+    const std::size_t quads = net.quads.size();
+    const auto corners = [&](std::uint32_t id, std::array<std::uint32_t, 4>& out) {
+        if (id < quads) {
+            out = net.quads[id];
+            return 4;
+        }
+        const auto& t = net.triangles[id - quads];
+        out = {t[0], t[1], t[2], 0};
+        return 3;
+    };
+    std::vector<std::uint32_t> offsets(nodes + 1, 0), star;
+    const std::size_t polygons = quads + net.triangles.size();
+    std::array<std::uint32_t, 4> c{};
+    for (std::uint32_t id = 0; id < polygons; ++id)
+        for (int k = 0, n = corners(id, c); k < n; ++k) ++offsets[c[std::size_t(k)] + 1];
+    for (std::size_t i = 0; i < nodes; ++i) offsets[i + 1] += offsets[i];
+    star.resize(offsets.back());
+    std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+    for (std::uint32_t id = 0; id < polygons; ++id)
+        for (int k = 0, n = corners(id, c); k < n; ++k) star[cursor[c[std::size_t(k)]]++] = id;
+
+    for (std::uint32_t node = 0; node < nodes; ++node) {
+        const std::uint32_t first = offsets[node], count = offsets[node + 1] - first;
+        if (count < 2) continue;
+        // Fans: polygons joined where they share an edge at the node (a neighbour).
+        std::vector<std::uint32_t> fan(count), neighbour_of(2 * count);
+        for (std::uint32_t k = 0; k < count; ++k) fan[k] = k;
+        const auto root = [&](std::uint32_t k) {
+            while (fan[k] != k) k = fan[k] = fan[fan[k]];
+            return k;
+        };
+        for (std::uint32_t k = 0; k < count; ++k) {
+            const int n = corners(star[first + k], c);
+            for (int j = 0; j < n; ++j)
+                if (c[std::size_t(j)] == node) {
+                    neighbour_of[2 * k] = c[std::size_t((j + n - 1) % n)];
+                    neighbour_of[2 * k + 1] = c[std::size_t((j + 1) % n)];
+                }
+        }
+        for (std::uint32_t a = 0; a < 2 * count; ++a)
+            for (std::uint32_t b = a + 1; b < 2 * count; ++b)
+                if (neighbour_of[a] == neighbour_of[b]) fan[root(a / 2)] = root(b / 2);
+        std::vector<std::uint32_t> roots;
+        for (std::uint32_t k = 0; k < count; ++k)
+            if (std::find(roots.begin(), roots.end(), root(k)) == roots.end())
+                roots.push_back(root(k));
+        if (roots.size() < 2) continue;
+        for (std::size_t r = 0; r < roots.size(); ++r) {
+            const std::uint32_t owner = r == 0 ? node : std::uint32_t(net.node_count());
+            glm::vec3 centre(0.0f);
+            int around = 0;
+            for (std::uint32_t k = 0; k < count; ++k) {
+                if (root(k) != roots[r]) continue;
+                centre +=
+                    net.positions[neighbour_of[2 * k]] + net.positions[neighbour_of[2 * k + 1]];
+                around += 2;
+                if (r == 0) continue;
+                const std::uint32_t id = star[first + k];
+                auto& corner = id < quads ? net.quads[id][0] : net.triangles[id - quads][0];
+                std::uint32_t* p = &corner;
+                for (int j = 0; j < (id < quads ? 4 : 3); ++j)
+                    if (p[j] == node) p[j] = owner;
+                for (auto& l : links)
+                    for (int e = 0; e < 2; ++e)
+                        if (l[std::size_t(e)] == node &&
+                            (l[std::size_t(1 - e)] == neighbour_of[2 * k] ||
+                             l[std::size_t(1 - e)] == neighbour_of[2 * k + 1]))
+                            l[std::size_t(e)] = owner;
+            }
+            // A quarter of the way towards the fan's neighbours, kept inside the node's region.
+            const NodeBox box = node_box(net, node);
+            glm::vec3 start =
+                net.positions[node] + 0.25f * (centre / float(around) - net.positions[node]);
+            for (int a = 0; a < 3; ++a) {
+                const float inset = 0.01f * (box.hi[a] - box.lo[a]);
+                start[a] = std::clamp(start[a], box.lo[a] + inset, box.hi[a] - inset);
+            }
+            if (r == 0) {
+                net.positions[node] = start;
+                continue;
+            }
+            net.cells.push_back(net.cells[node]);
+            net.pieces.push_back(kBorderCopyPiece);
+            net.regions.push_back(net.regions[node]);
+            net.positions.push_back(start);
+        }
+    }
+}
+
 } // namespace
 
 SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& progress) {
@@ -102,7 +422,7 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
     const glm::ivec3 cd = dims - 1;
     net.cell_dims = cd;
 
-    // Pass 1: count surface cells per row of cells.
+    // Pass 1: count nodes (pieces of surface cells) per row of cells.
     const std::size_t rows = std::size_t(cd.y) * std::size_t(cd.z);
     const std::vector<std::uint8_t> voxel_rows = classify_rows(segmentation);
     std::vector<std::uint32_t> row_offsets(rows + 1, 0);
@@ -110,7 +430,8 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
         progress.update(0.4f * float(z) / float(cd.z));
         for (int y = 0; y < cd.y; ++y) {
             std::uint32_t count = 0;
-            for_each_surface_cell_in_row(segmentation, voxel_rows, y, z, [&](int) { ++count; });
+            for_each_surface_cell_in_row(segmentation, voxel_rows, y, z,
+                                         [&](int, unsigned mask) { count += piece_count(mask); });
             row_offsets[std::size_t(z) * cd.y + y + 1] = count;
         }
     }
@@ -122,56 +443,101 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
     }
     const std::size_t nodes = row_offsets[rows];
     net.cells.resize(nodes);
+    net.pieces.resize(nodes);
+    net.regions.resize(nodes);
     net.positions.resize(nodes);
 
-    // Pass 3: fill nodes at cell centres.
+    // Pass 3: fill the nodes, one per piece.
     for (int z = 0; z < cd.z; ++z)
         for (int y = 0; y < cd.y; ++y) {
             std::uint32_t id = row_offsets[std::size_t(z) * cd.y + y];
-            for_each_surface_cell_in_row(segmentation, voxel_rows, y, z, [&](int x) {
-                net.cells[id] = {x, y, z};
-                net.positions[id] = glm::vec3(x, y, z) + 0.5f;
-                ++id;
+            for_each_surface_cell_in_row(segmentation, voxel_rows, y, z, [&](int x, unsigned mask) {
+                const detail::MarchingCubesCase& c = detail::marching_cubes_case(mask);
+                const glm::vec3 corner = glm::vec3(float(x), float(y), float(z));
+                int first = 0;
+                for (int loop = 0; loop < c.loop_count; ++loop) {
+                    glm::vec3 centre(0.5f);
+                    std::uint8_t region = 0;
+                    if (c.loop_count > 1) {
+                        glm::vec3 lo(1.0f), hi(0.0f);
+                        centre = glm::vec3(0.0f);
+                        for (int i = first; i < first + c.loop_size[loop]; ++i) {
+                            const glm::vec3 m = edge_midpoint(c.loop_edges[i]);
+                            centre += m;
+                            lo = glm::min(lo, m);
+                            hi = glm::max(hi, m);
+                        }
+                        centre /= float(c.loop_size[loop]);
+                        region = piece_region(lo, hi);
+                    }
+                    first += c.loop_size[loop];
+                    net.cells[id] = {x, y, z};
+                    net.pieces[id] = std::uint8_t(loop);
+                    net.regions[id] = region;
+                    net.positions[id] = corner + centre;
+                    ++id;
+                }
             });
         }
     progress.update(0.6f);
-    const NodeIndex node_of(net, std::move(row_offsets));
+    const NodeIndex index(net, std::move(row_offsets));
 
-    // Links: a surface cell and its +axis neighbour are linked when the face between them has
-    // mixed labels. Count degrees first, then fill (CSR).
-    std::vector<std::uint32_t> degree(nodes + 1, 0);
-    auto for_each_link = [&](auto&& visit) {
-        for (std::uint32_t i = 0; i < nodes; ++i) {
-            const glm::ivec3 c = net.cells[i];
-            for (int axis = 0; axis < 3; ++axis) {
-                if (c[axis] + 1 >= cd[axis] || !face_is_mixed(segmentation, c, axis)) continue;
-                glm::ivec3 n = c;
-                n[axis] += 1;
-                visit(i, node_of(n));
+    // Links: the pieces of a cell and of its +axis neighbour that meet on the face between
+    // them (share a crossed edge of it). Where both segments of an ambiguous face join the same
+    // two pieces, the second gets a node of its own: see add_link_node.
+    std::vector<std::array<std::uint32_t, 2>> links;
+    std::vector<LinkNode> link_nodes;
+    for (std::uint32_t i = 0; i < nodes; ++i) {
+        if (net.pieces[i] != 0) continue; // once per cell
+        const glm::ivec3 c = net.cells[i];
+        const unsigned mask = cell_mask(segmentation, c);
+        for (int axis = 0; axis < 3; ++axis) {
+            if (c[axis] + 1 >= cd[axis]) continue;
+            glm::ivec3 n = c;
+            n[axis] += 1;
+            const unsigned neighbour_mask = cell_mask(segmentation, n);
+            const FaceSegments face = face_segments(mask, axis);
+            std::array<std::uint32_t, 2> previous{};
+            for (int k = 0; k < face.count; ++k) {
+                const int edge = face.edges[k][0];
+                const std::uint32_t a =
+                    i + std::uint32_t(detail::surface_piece_of_edge(mask, edge));
+                const std::uint32_t b =
+                    node_of_edge(index, n, neighbour_mask, edge_across_face(edge, axis));
+                if (k == 1 && previous == std::array<std::uint32_t, 2>{a, b}) {
+                    const std::uint32_t m = std::uint32_t(nodes + link_nodes.size());
+                    link_nodes.push_back({m,
+                                          c,
+                                          a,
+                                          b,
+                                          {edge_key(segmentation, c, face.edges[k][0]),
+                                           edge_key(segmentation, c, face.edges[k][1])},
+                                          face.edges[k],
+                                          axis});
+                    links.push_back({a, m});
+                    links.push_back({m, b});
+                    continue;
+                }
+                previous = {a, b};
+                links.push_back({a, b});
             }
         }
-    };
-    for_each_link([&](std::uint32_t a, std::uint32_t b) { ++degree[a], ++degree[b]; });
-    net.link_offsets.assign(nodes + 1, 0);
-    for (std::size_t i = 0; i < nodes; ++i)
-        net.link_offsets[i + 1] = net.link_offsets[i] + degree[i];
-    net.links.resize(net.link_offsets[nodes]);
-    std::vector<std::uint32_t> cursor(net.link_offsets.begin(), net.link_offsets.end() - 1);
-    for_each_link([&](std::uint32_t a, std::uint32_t b) {
-        net.links[cursor[a]++] = b;
-        net.links[cursor[b]++] = a;
-    });
+    }
+    add_link_nodes(net, link_nodes);
+    const std::vector<std::pair<std::uint64_t, std::uint32_t>> split_edges =
+        sorted_split_edges(link_nodes);
     progress.update(0.8f);
 
-    // Quads: one per grid edge whose two voxel labels differ, made of the 4 cells around it.
-    // Around an edge from voxel p along `axis`, with u = axis + 1 and v = axis + 2 (cyclic), the
-    // cells at (u, v) offsets (-1,-1), (0,-1), (0,0), (-1,0) run counter-clockwise seen from
-    // +axis, so the quad faces +axis when p is inside; otherwise it is reversed. The cell at
-    // offset (0,0) is cell p itself, a surface cell: visiting the nodes' lowest-corner edges
-    // finds every quad once, in time proportional to the surface.
+    // Quads: one per grid edge whose two voxel labels differ, made of the pieces holding that
+    // edge in the 4 cells around it. Around an edge from voxel p along `axis`, with u = axis + 1
+    // and v = axis + 2 (cyclic), the cells at (u, v) offsets (-1,-1), (0,-1), (0,0), (-1,0) run
+    // counter-clockwise seen from +axis, so the quad faces +axis when p is inside; otherwise it
+    // is reversed. The cell at offset (0,0) is cell p itself, a surface cell: visiting the cells'
+    // lowest-corner edges finds every quad once, in time proportional to the surface.
     const glm::ivec2 ring[4] = {{-1, -1}, {0, -1}, {0, 0}, {-1, 0}};
     net.quads.reserve(nodes);
     for (std::uint32_t i = 0; i < nodes; ++i) {
+        if (net.pieces[i] != 0) continue; // once per cell
         const glm::ivec3 p = net.cells[i];
         const bool here = segmentation.at(p.x, p.y, p.z);
         for (int axis = 0; axis < 3; ++axis) {
@@ -185,12 +551,27 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
                 glm::ivec3 c = p;
                 c[u] += ring[k].x;
                 c[v] += ring[k].y;
-                quad[std::size_t(k)] = node_of(c);
+                const glm::ivec3 offset = p - c; // where the edge sits in cell c
+                quad[std::size_t(k)] =
+                    node_of_edge(index, c, cell_mask(segmentation, c), cube_edge(axis, offset));
             }
             if (!here) std::swap(quad[1], quad[3]);
-            net.quads.push_back(quad);
+            add_quad(net, quad, link_nodes, split_edges,
+                     segmentation.index(p.x, p.y, p.z) * 3 + std::uint64_t(axis));
         }
     }
+    split_pinched_border_nodes(net, links);
+    net.link_offsets.assign(net.node_count() + 1, 0);
+    for (const auto& l : links) ++net.link_offsets[l[0] + 1], ++net.link_offsets[l[1] + 1];
+    for (std::size_t k = 0; k < net.node_count(); ++k)
+        net.link_offsets[k + 1] += net.link_offsets[k];
+    net.links.resize(net.link_offsets.back());
+    std::vector<std::uint32_t> cursor(net.link_offsets.begin(), net.link_offsets.end() - 1);
+    for (const auto& l : links) {
+        net.links[cursor[l[0]]++] = l[1];
+        net.links[cursor[l[1]]++] = l[0];
+    }
+    add_stars(net);
     progress.update(1.0f);
     return net;
 }

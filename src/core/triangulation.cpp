@@ -15,26 +15,27 @@ float angle_at(glm::vec3 apex, glm::vec3 a, glm::vec3 b) {
     return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0f, 1.0f));
 }
 
-// True when the quad a b c d should be split along a-c.
-bool split_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, TriangulationRule rule) {
+} // namespace
+
+bool quad_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d,
+                          TriangulationRule rule, glm::vec3 spacing) {
+    a *= spacing, b *= spacing, c *= spacing, d *= spacing;
     if (rule == TriangulationRule::ShorterDiagonal)
         return glm::dot(a - c, a - c) <= glm::dot(b - d, b - d);
     // Delaunay: a-c is the locally Delaunay edge when the angles opposite it sum to at most pi.
     return angle_at(b, a, c) + angle_at(d, c, a) <= 3.14159265358979f;
 }
 
-} // namespace
-
 Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
-                 TriangulationRule rule) {
+                 TriangulationRule rule, glm::vec3 spacing) {
     Mesh mesh;
     mesh.positions.assign(positions.begin(), positions.end());
-    mesh.indices.resize(net.quads.size() * 6);
+    mesh.indices.resize(net.quads.size() * 6 + net.triangles.size() * 3);
     std::uint32_t* out = mesh.indices.data();
     for (const auto& q : net.quads) {
         const glm::vec3 a = positions[q[0]], b = positions[q[1]], c = positions[q[2]],
                         d = positions[q[3]];
-        if (split_along_ac(a, b, c, d, rule)) {
+        if (quad_splits_along_ac(a, b, c, d, rule, spacing)) {
             const std::uint32_t t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
             std::copy(t, t + 6, out);
         } else {
@@ -43,6 +44,7 @@ Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
         }
         out += 6;
     }
+    for (const auto& t : net.triangles) out = std::copy(t.begin(), t.end(), out);
     return mesh;
 }
 

@@ -15,7 +15,14 @@ namespace snert {
 
 enum class TriangulationRule { ShorterDiagonal, Delaunay };
 
+// Lengths and angles are measured in world millimetres (index offsets times `spacing`), so thick
+// slices do not skew the choice.
 Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
-                 TriangulationRule rule = TriangulationRule::ShorterDiagonal);
+                 TriangulationRule rule = TriangulationRule::ShorterDiagonal,
+                 glm::vec3 spacing = glm::vec3(1.0f));
+
+// True when the quad a b c d (index space) splits along a-c under `rule`.
+bool quad_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d,
+                          TriangulationRule rule, glm::vec3 spacing);
 
 } // namespace snert

@@ -44,10 +44,15 @@ FigureRects layout_figure(int width, int height, int view_count, FigureLayout la
     const float caption_height = with_caption ? std::round(1.7f * f) : 0.0f;
     const ImVec2 legend = quality_legend_size(f);
     const float legend_height = with_legend ? legend.y + std::round(0.6f * f) : 0.0f;
-    // The panels hold the metrics table in one column group, and at least 30 % of the height.
+    // The panels hold the metrics table, and at least 30 % of the height. The table takes one
+    // column group, or two (half the rows, and more of the width) when one would leave the
+    // views less than about half the image.
+    const int groups = metrics_table_height(1, f) + margin > 0.36f * h ? 2 : 1;
+    r.table_groups = panels ? groups : 1;
+    const float table_font = groups > 1 ? small_font_size(f) : f;
     const float panel_height =
         panels ? std::max(std::round(0.30f * h),
-                          std::ceil(metrics_table_height(1, f) + margin + 0.5f * f))
+                          std::ceil(metrics_table_height(groups, table_font) + margin + 0.5f * f))
                : 0.0f;
     const float view_height = h - title_height - panel_height - caption_height - legend_height;
     if (view_height < 2.0f * f)
@@ -70,7 +75,8 @@ FigureRects layout_figure(int width, int height, int view_count, FigureLayout la
     if (panels) {
         const float top = below_views + legend_height + margin;
         const float panel_inner = panel_height - margin - std::round(0.3f * f);
-        const float histogram_width = std::round((w - 3.0f * margin) * 0.47f);
+        const float histogram_share = r.table_groups > 1 ? 0.38f : 0.47f;
+        const float histogram_width = std::round((w - 3.0f * margin) * histogram_share);
         r.histogram = {margin, top, histogram_width, panel_inner};
         const float table_x = margin + histogram_width + 1.5f * margin;
         r.table = {table_x, top, w - margin - table_x, panel_inner};
@@ -114,10 +120,14 @@ void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
     if (options.layout == FigureLayout::Comparison) {
         draw_quality_histograms(draw, min_of(rects.histogram), max_of(rects.histogram), panels,
                                 fonts, quality, options.style.quality_threshold);
-        // Two column groups when a single group would not fit the panel's height.
-        const int groups = metrics_table_height(1, fonts.size) <= rects.table.height + 1.0f ? 1 : 2;
+        // Two column groups are narrower: their text in the small face, as the app does.
+        FigureFonts table_fonts = fonts;
+        const bool compact = rects.table_groups > 1;
+        if (compact) table_fonts.size = fonts.small->FontSize;
         ImGui::SetCursorScreenPos(min_of(rects.table));
-        metrics_table("metrics", panels, groups, rects.table.width, fonts);
+        if (compact) ImGui::PushFont(fonts.small);
+        metrics_table("metrics", panels, rects.table_groups, rects.table.width, table_fonts);
+        if (compact) ImGui::PopFont();
     }
     if (rects.caption.height > 0) {
         ImGui::PushFont(fonts.small);

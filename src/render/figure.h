@@ -54,6 +54,8 @@ struct FigureRects {
     Rect legend;              // quality legend under the views; empty without one
     Rect histogram;           // Comparison only (else empty)
     Rect table;               // Comparison only
+    int table_groups = 1;     // column groups of the metrics table (2 when one would be too tall,
+                              // then in the small face)
     Rect caption;             // empty when there is no caption
     float font_px = 0;
 };

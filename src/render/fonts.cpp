@@ -43,7 +43,8 @@ FigureFonts add_figure_fonts(ImFontAtlas& atlas, float size_px) {
     fonts.size = size_px;
     fonts.regular = add_font(atlas, snert_font_regular, snert_font_regular_end, size_px);
     fonts.bold = add_font(atlas, snert_font_bold, snert_font_bold_end, size_px);
-    fonts.small = add_font(atlas, snert_font_regular, snert_font_regular_end, 0.85f * size_px);
+    fonts.small =
+        add_font(atlas, snert_font_regular, snert_font_regular_end, small_font_size(size_px));
     return fonts;
 }
 

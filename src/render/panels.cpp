@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <vector>
 
 #include "colormap.h"
@@ -198,13 +197,8 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
     const float y_label_width = text_size(fonts.small, widest).x;
     const float plot_left = std::round(min.x + y_label_width + 0.6f * f);
     const float plot_right = std::round(max.x - 0.3f * f);
-    const float plot_top = std::round(min.y + 2.6f * f);
-    const float strip = colormap_axis ? std::round(0.5f * f) : 0.0f;
-    const float plot_bottom = std::round(max.y - 2.5f * f - strip);
-    if (plot_right - plot_left < 4 * f || plot_bottom - plot_top < 2 * f) return; // no room
-
-    // Title line: "triangles (%)" over the y axis; the series legend right-aligned after it.
-    text(draw, fonts.regular, ImVec2(min.x, min.y), kText, "triangles (%)");
+    // Title line: "triangles (%)" over the y axis; the series legend right-aligned after it, or
+    // on a line of its own when both do not fit on one.
     const float swatch = std::round(0.7f * f);
     std::vector<std::string> labels;
     float legend_width = 0.0f;
@@ -213,12 +207,23 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
                          (m.metrics ? format(", mean %.3f", m.metrics->quality.mean) : ""));
         legend_width += swatch + 0.35f * f + text_size(fonts.regular, labels.back()).x + 1.0f * f;
     }
+    const std::string y_title = "triangles (%)";
+    const bool legend_below =
+        text_size(fonts.regular, y_title).x + 1.0f * f + legend_width - 1.0f * f > max.x - min.x;
+    const float legend_y = legend_below ? std::round(min.y + 1.3f * f) : min.y;
+    const float plot_top = std::round(legend_y + 2.6f * f);
+    const float strip = colormap_axis ? std::round(0.5f * f) : 0.0f;
+    const float plot_bottom = std::round(max.y - 2.5f * f - strip);
+    if (plot_right - plot_left < 4 * f || plot_bottom - plot_top < 2 * f) return; // no room
+
+    text(draw, fonts.regular, ImVec2(min.x, min.y), kText, y_title);
     float legend_x = std::round(max.x - legend_width + 1.0f * f);
     for (std::size_t i = 0; i < methods.size(); ++i) {
-        const float y = std::round(min.y + 0.5f * (fonts.regular->FontSize - swatch));
+        const float y = std::round(legend_y + 0.5f * (fonts.regular->FontSize - swatch));
         draw->AddRectFilled(ImVec2(legend_x, y), ImVec2(legend_x + swatch, y + swatch),
                             method_color_u32(methods[i].name), 0.15f * swatch);
-        text(draw, fonts.regular, ImVec2(legend_x + swatch + 0.35f * f, min.y), kText, labels[i]);
+        text(draw, fonts.regular, ImVec2(legend_x + swatch + 0.35f * f, legend_y), kText,
+             labels[i]);
         legend_x += swatch + 0.35f * f + text_size(fonts.regular, labels[i]).x + 1.0f * f;
     }
 
@@ -289,37 +294,70 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
 
 namespace {
 
+// One row of the metrics table. `net` tells a relaxed net from Marching Cubes, which has no
+// relaxation to report.
 struct Measure {
     const char* label;
-    std::function<std::string(const MethodMetrics&)> value;
+    std::string (*value)(const MethodMetrics& m, bool net);
 };
 
+std::string yes_no(bool v) {
+    return v ? "yes" : "no";
+}
+
+std::string accuracy_or_na(const MethodMetrics& m, double Accuracy::*field) {
+    return m.accuracy ? format("%.3f", (*m.accuracy).*field) : std::string("n/a");
+}
+
+// The rows: size, quality, smoothness, the three accuracies (which points are measured is in
+// the label), then what a finite-element mesher needs, then the relaxation's end.
 const std::vector<Measure>& measures() {
     static const std::vector<Measure> list = {
-        {"Triangles", [](const MethodMetrics& m) { return format_count(m.triangles); }},
-        {"Vertices", [](const MethodMetrics& m) { return format_count(m.vertices); }},
-        {"Mean quality", [](const MethodMetrics& m) { return format("%.3f", m.quality.mean); }},
-        {"Min quality", [](const MethodMetrics& m) { return format("%.3f", m.quality.min); }},
+        {"Triangles", [](const MethodMetrics& m, bool) { return format_count(m.triangles); }},
+        {"Vertices", [](const MethodMetrics& m, bool) { return format_count(m.vertices); }},
+        {"Mean quality",
+         [](const MethodMetrics& m, bool) { return format("%.3f", m.quality.mean); }},
+        {"Min quality", [](const MethodMetrics& m, bool) { return format("%.3f", m.quality.min); }},
         {"Mean radius ratio",
-         [](const MethodMetrics& m) { return format("%.3f", m.quality.radius_ratio_mean); }},
-        {"Smallest angle",
-         [](const MethodMetrics& m) { return format("%.1f\xC2\xB0", m.quality.min_angle_min); }},
-        {"Smoothness (rad)", [](const MethodMetrics& m) { return format("%.4f", m.smoothness); }},
+         [](const MethodMetrics& m, bool) { return format("%.3f", m.quality.radius_ratio_mean); }},
+        {"Smallest angle", [](const MethodMetrics& m,
+                              bool) { return format("%.1f\xC2\xB0", m.quality.min_angle_min); }},
+        {"Slivers (q < 0.1)",
+         [](const MethodMetrics& m, bool) {
+             const double share = m.triangles ? double(m.quality.slivers) / double(m.triangles) : 0;
+             return format("%.2f %%", 100.0 * share);
+         }},
+        {"Smoothness (rad)",
+         [](const MethodMetrics& m, bool) { return format("%.4f", m.smoothness); }},
         {"Accuracy, vertices",
-         [](const MethodMetrics& m) {
-             return m.accuracy ? format("%.3f", m.accuracy->vertices_mean) : std::string("n/a");
-         }},
+         [](const MethodMetrics& m, bool) { return accuracy_or_na(m, &Accuracy::vertices_mean); }},
         {"Accuracy, faces",
-         [](const MethodMetrics& m) {
-             return m.accuracy ? format("%.3f", m.accuracy->faces_mean) : std::string("n/a");
-         }},
-        {"Degenerate", [](const MethodMetrics& m) { return format_count(m.quality.degenerate); }},
-        {"Closed manifold",
-         [](const MethodMetrics& m) {
-             return std::string(m.topology.watertight && m.topology.manifold ? "yes" : "no");
-         }},
+         [](const MethodMetrics& m, bool) { return accuracy_or_na(m, &Accuracy::faces_mean); }},
+        {"Accuracy, surface",
+         [](const MethodMetrics& m, bool) { return accuracy_or_na(m, &Accuracy::surface_mean); }},
+        {"Degenerate",
+         [](const MethodMetrics& m, bool) { return format_count(m.quality.degenerate); }},
+        {"Closed", [](const MethodMetrics& m, bool) { return yes_no(m.topology.watertight); }},
+        {"Manifold", [](const MethodMetrics& m, bool) { return yes_no(m.topology.manifold); }},
+        {"Non-manifold edges",
+         [](const MethodMetrics& m, bool) { return format_count(m.topology.nonmanifold_edges); }},
+        {"Non-manifold verts", [](const MethodMetrics& m,
+                                  bool) { return format_count(m.topology.nonmanifold_vertices); }},
+        {"Self-intersections",
+         [](const MethodMetrics& m, bool) { return format_count(m.self_intersections); }},
+        {"FE-ready", [](const MethodMetrics& m, bool) { return yes_no(m.fe_ready); }},
         {"Euler characteristic",
-         [](const MethodMetrics& m) { return std::to_string(m.topology.euler); }},
+         [](const MethodMetrics& m, bool) { return std::to_string(m.topology.euler); }},
+        {"Iterations",
+         [](const MethodMetrics& m, bool net) {
+             return net ? std::to_string(m.iterations) : std::string("n/a");
+         }},
+        {"Converged", [](const MethodMetrics& m,
+                         bool net) { return net ? yes_no(m.converged) : std::string("n/a"); }},
+        {"Last largest move",
+         [](const MethodMetrics& m, bool net) {
+             return net ? format("%.1e", m.final_max_move) : std::string("n/a");
+         }},
     };
     return list;
 }
@@ -350,14 +388,17 @@ void metrics_table(const char* id, std::span<const PanelMethod> methods, int col
                                   ImGuiTableFlags_SizingStretchProp;
     if (!ImGui::BeginTable(id, groups * per_group, flags, ImVec2(width, 0))) return;
     for (int g = 0; g < groups; ++g) {
-        ImGui::TableSetupColumn("measure", ImGuiTableColumnFlags_WidthStretch, 1.55f);
+        // The measures' names need more of a narrower group.
+        ImGui::TableSetupColumn("measure", ImGuiTableColumnFlags_WidthStretch,
+                                groups > 1 ? 2.0f : 1.55f);
         for (std::size_t m = 0; m < methods.size(); ++m)
             ImGui::TableSetupColumn(methods[m].name.c_str(), ImGuiTableColumnFlags_WidthStretch,
                                     1.0f);
     }
-    // Header: the methods' names in bold with their colour swatch.
+    // Header: the methods' names in bold with their colour swatch; in the current face when
+    // two groups make the columns too narrow for the bold one.
     ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
-    ImGui::PushFont(fonts.bold);
+    ImGui::PushFont(groups > 1 ? ImGui::GetFont() : fonts.bold);
     for (int g = 0; g < groups; ++g) {
         for (std::size_t m = 0; m < methods.size(); ++m) {
             ImGui::TableSetColumnIndex(g * per_group + 1 + int(m));
@@ -390,7 +431,8 @@ void metrics_table(const char* id, std::span<const PanelMethod> methods, int col
             ImGui::PopStyleColor();
             for (std::size_t m = 0; m < methods.size(); ++m) {
                 ImGui::TableSetColumnIndex(g * per_group + 1 + int(m));
-                right_aligned(methods[m].metrics ? list[k].value(*methods[m].metrics)
+                const bool net = methods[m].name != "mc";
+                right_aligned(methods[m].metrics ? list[k].value(*methods[m].metrics, net)
                                                  : std::string("n/a"));
             }
         }

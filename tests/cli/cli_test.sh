@@ -48,18 +48,27 @@ expect_exit 2 "all inside or all outside" -- "$SNERT" compare phantom:sphere --s
 # compare: the table and the JSON schema.
 expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 24 --json "$tmp/c.json"
 grep -q "snert" "$tmp/out" || fail "compare table lacks the snert row"
+grep -q "fe_ready" "$tmp/out" || fail "compare table lacks the FE-readiness columns"
+grep -q "accS over the whole surface" "$tmp/out" || fail "compare table does not say which accuracy is which"
 python3 - "$tmp/c.json" <<'PY' || fail "compare JSON schema"
 import json, sys
 j = json.load(open(sys.argv[1]))
 assert set(j) == {"mc", "sna", "snert"}, j.keys()
 keys = ["vertices", "triangles", "quality_mean", "quality_min", "quality_hist", "quality60_mean",
         "radius_ratio_mean", "degenerate", "smoothness", "accuracy_vertices", "accuracy_faces",
-        "watertight", "manifold", "ms"]
-for m in j.values():
+        "accuracy_surface", "accuracy_against", "watertight", "manifold", "nonmanifold_edges",
+        "nonmanifold_vertices", "self_intersections", "slivers", "min_angle_deg", "fe_ready",
+        "iterations", "converged", "final_max_move", "ms"]
+for name, m in j.items():
     for k in keys: assert k in m, k
-    assert m["triangles"] > 0 and m["watertight"] is True
+    assert m["triangles"] > 0 and m["watertight"] is True and m["manifold"] is True
     assert len(m["quality_hist"]) == 20 and sum(m["quality_hist"]) == m["triangles"]
     assert 0 < m["quality_mean"] <= 1
+    assert 0 <= m["slivers"] <= 1 and 0 < m["min_angle_deg"] <= 60
+    assert m["accuracy_surface"] > 0 and m["accuracy_against"] == "the exact surface of the phantom"
+    # The relaxation's numbers belong to the nets only.
+    assert (m["iterations"] is None) == (name == "mc"), name
+assert j["mc"]["self_intersections"] == 0 and j["mc"]["fe_ready"] is True
 assert j["snert"]["quality_mean"] > j["mc"]["quality_mean"]
 PY
 expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --iterations 3
@@ -82,10 +91,11 @@ python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert set(j)=={'pl
 data=${SNERT_DATA_DIR:-}
 if [ -n "$data" ] && [ -d "$data" ]; then
     expect_exit 0 "" -- "$SNERT" compare "$data/HeadMRVolume.mhd" --iso 40 --iterations 5 --json "$tmp/mr.json"
-    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['snert']['accuracy_reference']=='first-order'; assert j['mc']['triangles']>1000" "$tmp/mr.json" || fail "MR compare JSON"
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['snert']['accuracy_reference']=='first-order'; assert j['mc']['triangles']>1000; assert 'iso-surface I = 40' in j['mc']['accuracy_against']" "$tmp/mr.json" || fail "MR compare JSON"
     ct="$data/totalseg_ct_abdomen/example_ct_sm.nii.gz"
     expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --iterations 5
     grep -q "snert" "$tmp/out" || fail "label compare lacks the snert row"
+    grep -q "not the label mask's boundary" "$tmp/out" || fail "label compare does not say what accuracy is measured against"
     expect_exit 2 "HeadMRVolume" -- "$SNERT" compare "$ct" --labels "$data/HeadMRVolume.mhd" --label 5
     expect_exit 0 "wrote" -- "$SNERT" export "$data/headsq/quarter.1" --raw 64,64,93 --raw-type uint16 --raw-spacing 3.2,3.2,1.5 --iso 500 --iterations 5 --method snert --out "$tmp/head.ply"
 else

@@ -189,6 +189,7 @@ TEST(QualityStats, MixOfKnownTriangles) {
     EXPECT_NEAR(s.radius_ratio_mean, (1.0 + 2.0 * (std::sqrt(2.0) - 1.0)) / 3.0, 1e-6);
     EXPECT_EQ(s.min_angle_min, 0.0);
     EXPECT_EQ(s.degenerate, 1u);
+    EXPECT_EQ(s.slivers, 1u); // the degenerate one
     std::array<std::size_t, kQualityBins> expected{};
     expected[0] = 1;                // q = 0
     expected[kQualityBins / 2] = 1; // q = 0.5 opens the upper half
@@ -200,6 +201,21 @@ TEST(QualityStats, MixOfKnownTriangles) {
     EXPECT_NEAR(q[0], 1.0f, 1e-6);
     EXPECT_NEAR(q[1], 0.5f, 1e-6);
     EXPECT_EQ(q[2], 0.0f);
+}
+
+TEST(QualityStats, SliversBelowOneTenth) {
+    // Isosceles needles with apex angle 2 atan(w): q = apex / base angle, about 4 w / pi for
+    // small w. w = 0.07 gives q = 0.09 (a sliver), w = 0.09 gives q = 0.116 (not one).
+    Mesh m;
+    for (float w : {0.07f, 0.09f}) {
+        const std::uint32_t base = std::uint32_t(m.positions.size());
+        m.positions.insert(m.positions.end(), {{0, -w, 0}, {1, 0, 0}, {0, w, 0}});
+        m.indices.insert(m.indices.end(), {base, base + 1, base + 2});
+    }
+    const QualityStats s = quality_stats(m);
+    EXPECT_EQ(s.slivers, 1u);
+    EXPECT_EQ(s.degenerate, 0u);
+    EXPECT_NEAR(s.min_angle_min, 2.0 * std::atan(0.07) * 180.0 / kPi, 1e-4);
 }
 
 TEST(QualityStats, EmptyMeshIsAllZero) {
@@ -270,8 +286,10 @@ TEST(Smoothness, PinchedVertexIsLeftOut) {
     m.indices.insert(m.indices.end(), second.indices.begin(), second.indices.end());
     EXPECT_NEAR(smoothness(m), kPi / 2.0, 1e-12);
     const Topology t = topology(m);
-    EXPECT_TRUE(t.watertight);
-    EXPECT_FALSE(t.manifold);
+    EXPECT_TRUE(t.watertight); // closed,
+    EXPECT_FALSE(t.manifold);  // but not manifold at the shared corner
+    EXPECT_EQ(t.nonmanifold_vertices, 1u);
+    EXPECT_EQ(t.nonmanifold_edges, 0u);
     EXPECT_EQ(t.euler, 15 - 36 + 24);
 }
 
@@ -294,6 +312,7 @@ TEST(Topology, ClosedCube) {
     EXPECT_EQ(t.euler, 2);
     EXPECT_EQ(t.boundary_edges, 0u);
     EXPECT_EQ(t.nonmanifold_edges, 0u);
+    EXPECT_EQ(t.nonmanifold_vertices, 0u);
     EXPECT_EQ(t.collapsed_triangles, 0u);
     EXPECT_TRUE(topology(flipped(unit_cube())).oriented);
 }
@@ -310,8 +329,9 @@ TEST(Topology, OneFlippedTriangleIsNotOriented) {
 TEST(Topology, GridHasBoundary) {
     const int n = 7;
     const Topology t = topology(flat_grid(n));
-    EXPECT_FALSE(t.watertight);
-    EXPECT_FALSE(t.manifold);
+    EXPECT_FALSE(t.watertight); // open,
+    EXPECT_TRUE(t.manifold);    // but a manifold with boundary
+    EXPECT_EQ(t.nonmanifold_vertices, 0u);
     EXPECT_TRUE(t.oriented);
     EXPECT_EQ(t.boundary_edges, std::size_t(4 * n));
     EXPECT_EQ(t.nonmanifold_edges, 0u);
@@ -332,8 +352,10 @@ TEST(Topology, FinEdgeIsNonManifold) {
     m.indices = {0, 1, 2, 1, 0, 3, 0, 1, 4};
     const Topology t = topology(m);
     EXPECT_EQ(t.nonmanifold_edges, 1u);
+    EXPECT_EQ(t.nonmanifold_vertices, 2u); // both ends of the fin edge
     EXPECT_EQ(t.boundary_edges, 6u);
     EXPECT_FALSE(t.watertight);
+    EXPECT_FALSE(t.manifold);
     EXPECT_FALSE(t.oriented); // edge 0-1 is used twice as 0 -> 1
     EXPECT_EQ(t.euler, 5 - 7 + 3);
 }
@@ -345,6 +367,29 @@ TEST(Topology, CollapsedTriangle) {
     EXPECT_EQ(t.collapsed_triangles, 1u);
     EXPECT_FALSE(t.watertight);
     EXPECT_FALSE(t.manifold);
+}
+
+TEST(Topology, TwoDiscsTouchingAtAVertex) {
+    // Two open fans sharing their centre: each edge is fine, the vertex is not.
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 1}, {0, -1, 1}};
+    m.indices = {0, 1, 2, 0, 3, 4};
+    const Topology t = topology(m);
+    EXPECT_EQ(t.nonmanifold_edges, 0u);
+    EXPECT_EQ(t.nonmanifold_vertices, 1u);
+    EXPECT_FALSE(t.manifold);
+}
+
+TEST(Topology, BoundaryEdgesOffTheBorder) {
+    // A 9 x 9 grid of squares in a 10^3 volume: its border lies on the volume's faces x, y = 0
+    // and 9. Moved inwards by two voxels its border is a hole inside the volume.
+    Mesh m = flat_grid(9);
+    for (glm::vec3& p : m.positions) p.z = 5;
+    EXPECT_EQ(boundary_edges_off_border(m, glm::ivec3(10), 1.0f), 0u);
+    Mesh small = flat_grid(4);
+    for (glm::vec3& p : small.positions) p += glm::vec3(2, 2, 5);
+    EXPECT_EQ(boundary_edges_off_border(small, glm::ivec3(10), 1.0f), 16u);
+    EXPECT_EQ(boundary_edges_off_border(unit_cube(), glm::ivec3(10), 1.0f), 0u); // closed
 }
 
 TEST(Topology, SphereAndOctahedron) {
@@ -415,6 +460,40 @@ TEST(Accuracy, LargeGridAgainstShiftedPlane) {
     EXPECT_NEAR(a.vertices_max, 0.25, 1e-6);
     EXPECT_NEAR(a.faces_mean, 0.2, 1e-5);
     EXPECT_EQ(accuracy(Mesh{}, [](glm::vec3) { return 1.0f; }).vertices_mean, 0.0);
+    // A linear distance is integrated exactly by the centroid rule: 0.2 over the surface too.
+    EXPECT_NEAR(a.surface_mean, 0.2, 1e-5);
+    EXPECT_NEAR(a.surface_max, 0.25, 1e-3);
+}
+
+TEST(Accuracy, SurfaceIsAreaWeighted) {
+    // Triangle 0 (area 0.5) at z = 1, triangle 1 (area 2) at z = 3; distance |z|.
+    Mesh m;
+    m.positions = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {0, 0, 3}, {2, 0, 3}, {0, 2, 3}};
+    m.indices = {0, 1, 2, 3, 4, 5};
+    const DistanceFunction z = [](glm::vec3 p) { return p.z; };
+    const Accuracy a = accuracy(m, z);
+    EXPECT_NEAR(a.vertices_mean, 2.0, 1e-12);
+    EXPECT_NEAR(a.faces_mean, 2.0, 1e-12);
+    EXPECT_NEAR(a.surface_mean, (0.5 * 1 + 2 * 3) / 2.5, 1e-12);
+    EXPECT_NEAR(a.surface_max, 3.0, 1e-12);
+    // Areas from another copy (here the first triangle stretched 4 times): weights 2 and 2.
+    Mesh stretched = m;
+    for (int v = 0; v < 3; ++v) stretched.positions[std::size_t(v)].x *= 4;
+    EXPECT_NEAR(accuracy(m, z, &stretched).surface_mean, 2.0, 1e-12);
+    Mesh other = m;
+    other.indices.pop_back();
+    other.indices.pop_back();
+    other.indices.pop_back();
+    EXPECT_THROW(accuracy(m, z, &other), std::invalid_argument);
+}
+
+TEST(Accuracy, SurfaceSeesWhatVerticesMiss) {
+    // The octahedron's vertices lie on the unit sphere (vertex figure 0); its faces do not.
+    const DistanceFunction sphere = [](glm::vec3 p) { return glm::length(p) - 1.0f; };
+    const Accuracy a = accuracy(octahedron(), sphere);
+    EXPECT_GT(a.surface_mean, 0.2);
+    EXPECT_LT(a.surface_mean, a.faces_mean); // the centres are the farthest points
+    EXPECT_LT(a.surface_max, a.faces_max);   // no sample sits at the centroid (a sub-corner)
 }
 
 // --- Mesh distance --------------------------------------------------------------------------

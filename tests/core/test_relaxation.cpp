@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
+#include "core/mesh_guard.h"
 #include "core/metrics.h"
 #include "core/phantom.h"
 #include "core/relaxation.h"
+#include "core/triangle_intersection.h"
 #include "core/triangulation.h"
 
 using namespace snert;
@@ -127,7 +130,7 @@ TEST(Relaxation, JacobiUpdateUsesOldPositionsOnly) {
     RelaxOptions o;
     o.mode = RelaxMode::Averaging;
     std::vector<glm::vec3> next(net.node_count());
-    relax_step(net, nullptr, o, net.positions, next);
+    relax_step(net, nullptr, o, 1, net.positions, next);
     for (std::uint32_t i = 0; i < net.node_count(); ++i) {
         glm::vec3 mean(0.0f);
         const auto n = net.link_offsets[i + 1] - net.link_offsets[i];
@@ -191,4 +194,103 @@ TEST(Relaxation, CancelThrows) {
     Progress progress{source.get_token(), {}};
     EXPECT_THROW(relax(net, nullptr, RelaxOptions{.mode = RelaxMode::Averaging}, {}, progress),
                  Cancelled);
+}
+
+namespace {
+
+// Share of triangles with smallest / largest angle under 0.1, in world units.
+std::size_t sliver_count(const Mesh& world) {
+    std::size_t slivers = 0;
+    for (float q : triangle_quality(world)) slivers += q < float(kSliverQuality) ? 1 : 0;
+    return slivers;
+}
+
+// A smooth random field: a sum of a few random Gaussian blobs, so SNERT has a real gradient
+// and the surface has necks, pockets and multi-piece cells.
+Volume blob_field(std::mt19937& rng, glm::ivec3 dims, glm::vec3 spacing) {
+    Volume v = make_volume(dims);
+    v.spacing = spacing;
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<glm::vec4> blobs;
+    for (int k = 0; k < 12; ++k)
+        blobs.push_back({unit(rng) * float(dims.x), unit(rng) * float(dims.y),
+                         unit(rng) * float(dims.z), 0.8f + 2.0f * unit(rng)});
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                float value = 0.0f;
+                for (const glm::vec4& b : blobs) {
+                    const glm::vec3 d = glm::vec3(x, y, z) - glm::vec3(b);
+                    value += std::exp(-glm::dot(d, d) / (2.0f * b.w * b.w));
+                }
+                const bool border = x == 0 || y == 0 || z == 0 || x == dims.x - 1 ||
+                                    y == dims.y - 1 || z == dims.z - 1;
+                v.samples[v.index(x, y, z)] = border ? 0.0f : value + 0.05f * unit(rng);
+            }
+    return v;
+}
+
+} // namespace
+
+TEST(Relaxation, EveryIterationKeepsTheMeshFreeOfIntersectionsAndNewSlivers) {
+    std::mt19937 rng(3);
+    int checked = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+        const glm::vec3 spacing = trial % 3 == 2 ? glm::vec3(1.0f, 1.0f, 3.0f) : glm::vec3(1.0f);
+        const Volume v = blob_field(rng, {18, 16, 14}, spacing);
+        const SurfaceNet net = build_surface_net(segment_threshold(v, 0.5f));
+        if (net.quads.empty()) continue;
+        for (Constraint constraint : {Constraint::RayBox, Constraint::Clip})
+            for (TriangulationRule rule :
+                 {TriangulationRule::ShorterDiagonal, TriangulationRule::Delaunay}) {
+                RelaxOptions o;
+                o.iso = 0.5f;
+                o.constraint = constraint;
+                o.triangulation = rule;
+                o.max_iterations = 15;
+                o.epsilon = 0.0f;
+                const GreyField grey = make_grey_field(v, o);
+                const std::size_t initial_slivers =
+                    sliver_count(mesh_to_world(triangulate(net, net.positions, rule, spacing), v));
+                ASSERT_EQ(count_self_intersections(
+                              mesh_to_world(triangulate(net, net.positions, rule, spacing), v)),
+                          0u);
+                relax(net, &grey, o, [&](const RelaxIteration& it, std::span<const glm::vec3> p) {
+                    const Mesh world = mesh_to_world(triangulate(net, p, rule, spacing), v);
+                    EXPECT_EQ(count_self_intersections(world), 0u)
+                        << "trial " << trial << " iteration " << it.iteration;
+                    EXPECT_LE(sliver_count(world), initial_slivers)
+                        << "trial " << trial << " iteration " << it.iteration;
+                    return !::testing::Test::HasFailure();
+                });
+                ++checked;
+                if (HasFailure()) return;
+            }
+    }
+    EXPECT_GT(checked, 20);
+}
+
+TEST(Relaxation, DampingBringsEveryNodeToRest) {
+    // Noise with no consistent iso-surface makes nodes bounce between cell faces; after
+    // damping_start the step halves every damping_halving iterations, so the run settles.
+    std::mt19937 rng(5);
+    Volume v = make_volume({14, 14, 14});
+    for (float& x : v.samples) x = float(rng() % 100);
+    const SurfaceNet net = build_surface_net(segment_threshold(v, 50.0f));
+    RelaxOptions o;
+    o.iso = 50.0f;
+    o.max_iterations = 200;
+    o.epsilon = 0.01f;
+    o.damping_start = 20;
+    o.damping_halving = 5.0f;
+    const GreyField grey = make_grey_field(v, o);
+    const RelaxResult r = relax(net, &grey, o);
+    ASSERT_TRUE(r.converged);
+    // Undamped it would not have settled by damping_start ...
+    EXPECT_GT(r.max_moves[std::size_t(o.damping_start - 1)], 10 * o.epsilon);
+    // ... and the schedule bounds every later move by its scale times the cell diagonal.
+    for (std::size_t k = std::size_t(o.damping_start); k < r.max_moves.size(); ++k)
+        EXPECT_LE(r.max_moves[k],
+                  std::sqrt(3.0f) * std::exp2(-float(int(k) + 1 - o.damping_start) / 5.0f) + 1e-6f);
+    EXPECT_LE(r.max_moves.size(), 60u);
 }

@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <set>
+#include <string>
 
+#include "core/marching_cubes.h"
 #include "core/metrics.h"
 #include "core/phantom.h"
 #include "core/surface_net.h"
@@ -135,4 +138,133 @@ TEST(Triangulation, ShorterDiagonalAndDelaunay) {
             const glm::vec3 c = m->positions[m->indices[3 * t + 2]];
             EXPECT_GT(glm::cross(b - a, c - a).z, 0.0f);
         }
+}
+
+namespace {
+
+// Calls visit(index) for every sample on the faces of the grid.
+template <class Visit> void for_each_border_sample(glm::ivec3 dims, Visit&& visit) {
+    std::size_t i = 0;
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x, ++i)
+                if (x == 0 || y == 0 || z == 0 || x == dims.x - 1 || y == dims.y - 1 ||
+                    z == dims.z - 1)
+                    visit(i);
+}
+
+// The net's mesh against Marching Cubes' mesh of the same segmentation (MC at 0.5 on the mask).
+void expect_dual_of_marching_cubes(const Segmentation& s, const std::string& what) {
+    const SurfaceNet net = build_surface_net(s);
+    const Mesh mesh = triangulate(net, net.positions);
+    const Volume mask = mask_volume(s, make_volume(s.dims));
+    const Mesh mc = marching_cubes(mask, {0.5f, InsideIs::Above});
+    ASSERT_EQ(mesh.indices.empty(), mc.indices.empty()) << what;
+    if (mc.indices.empty()) return;
+    const Topology t = topology(mesh), m = topology(mc);
+    EXPECT_EQ(t.nonmanifold_edges, 0u) << what;
+    EXPECT_TRUE(t.oriented) << what;
+    EXPECT_EQ(t.boundary_edges == 0, m.boundary_edges == 0) << what;
+    EXPECT_EQ(t.euler, m.euler) << what;
+    EXPECT_EQ(t.manifold, m.manifold) << what;
+}
+
+} // namespace
+
+TEST(SurfaceNet, NoiseGivesTheDualOfMarchingCubes) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 2000; ++trial) {
+        const glm::ivec3 dims(3 + int(rng() % 5), 3 + int(rng() % 5), 3 + int(rng() % 5));
+        Segmentation s = empty_segmentation(dims);
+        const unsigned density = 1 + rng() % 7; // inside with probability density / 8
+        for (auto& v : s.inside) v = (rng() & 7u) < density ? 1 : 0;
+        // An outside border so the surface is closed.
+        for_each_border_sample(dims, [&](std::size_t i) { s.inside[i] = 0; });
+        expect_dual_of_marching_cubes(s, "trial " + std::to_string(trial));
+        if (HasFailure()) break;
+    }
+}
+
+TEST(SurfaceNet, EveryCaseWithSeveralPiecesGetsOneNodePerPiece) {
+    // Each of the 256 cases alone in the middle of a 4^3 grid: the middle cell holds one node
+    // per loop of its Marching Cubes case, and the whole net is MC's dual.
+    int split_cases = 0;
+    for (unsigned mask = 1; mask < 255; ++mask) {
+        Segmentation s = empty_segmentation({4, 4, 4});
+        for (int k = 0; k < 8; ++k)
+            if ((mask >> k) & 1u)
+                set_inside(s, 1 + (k & 1), 1 + ((k >> 1) & 1), 1 + ((k >> 2) & 1));
+        const SurfaceNet net = build_surface_net(s);
+        const int loops = detail::marching_cubes_case(mask).loop_count;
+        int in_middle = 0;
+        for (std::size_t i = 0; i < net.node_count(); ++i)
+            if (net.cells[i] == glm::ivec3(1) && net.pieces[i] != kLinkNodePiece) {
+                EXPECT_EQ(net.pieces[i], in_middle) << mask;
+                ++in_middle;
+                // A piece starts inside its own region.
+                const NodeBox box = node_box(net, i);
+                EXPECT_TRUE(glm::all(glm::greaterThanEqual(net.positions[i], box.lo)) &&
+                            glm::all(glm::lessThanEqual(net.positions[i], box.hi)))
+                    << mask;
+            }
+        EXPECT_EQ(in_middle, loops) << mask;
+        split_cases += loops > 1;
+        expect_dual_of_marching_cubes(s, "case " + std::to_string(mask));
+        if (HasFailure()) break;
+    }
+    EXPECT_GT(split_cases, 0);
+}
+
+TEST(SurfaceNet, PiecesOfOneCellHaveDisjointRegions) {
+    // Two diagonal inside corners: two corner pieces, in opposite octants of the cell.
+    Segmentation s = empty_segmentation({4, 4, 4});
+    set_inside(s, 1, 1, 1);
+    set_inside(s, 2, 2, 2);
+    const SurfaceNet net = build_surface_net(s);
+    std::vector<NodeBox> boxes;
+    for (std::size_t i = 0; i < net.node_count(); ++i)
+        if (net.cells[i] == glm::ivec3(1)) boxes.push_back(node_box(net, i));
+    ASSERT_EQ(boxes.size(), 2u);
+    EXPECT_TRUE(glm::any(glm::lessThanEqual(boxes[0].hi, boxes[1].lo)) ||
+                glm::any(glm::lessThanEqual(boxes[1].hi, boxes[0].lo)));
+}
+
+TEST(SurfaceNet, DoubledLinkGetsANodeOfItsOwn) {
+    // A ring of voxels around an ambiguous face whose two segments join the same two pieces:
+    // without a link node the edge between them would be in four triangles.
+    Segmentation s = empty_segmentation({7, 4, 4});
+    const char* slices[2] = {"0111110"
+                             "0110110",
+                             "0100110"
+                             "0111110"}; // rows y = 1, 2
+    for (int z = 0; z < 2; ++z)
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 7; ++x)
+                if (slices[z][y * 7 + x] == '1') set_inside(s, x, y + 1, z + 1);
+    const SurfaceNet net = build_surface_net(s);
+    const auto link_nodes = std::count(net.pieces.begin(), net.pieces.end(), kLinkNodePiece);
+    EXPECT_GT(link_nodes, 0);
+    EXPECT_FALSE(net.triangles.empty());
+    expect_dual_of_marching_cubes(s, "ring");
+}
+
+TEST(SurfaceNet, IntegerNoiseThresholdedAtASampleValueIsMarchingCubesDual) {
+    // Samples equal to the iso are inside, for the net as for MC.
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 500; ++trial) {
+        const glm::ivec3 dims(6, 5, 7);
+        Volume v = make_volume(dims);
+        for (float& x : v.samples) x = float(rng() % 4);
+        for_each_border_sample(dims, [&](std::size_t i) { v.samples[i] = 0.0f; });
+        expect_dual_of_marching_cubes(segment_threshold(v, 2.0f), "trial " + std::to_string(trial));
+        if (HasFailure()) break;
+    }
+}
+
+TEST(SurfaceNet, TwoSpheresCreaseIsMarchingCubesDual) {
+    for (int size : {24, 40, 64}) {
+        const Phantom p = make_phantom("two-spheres", size);
+        expect_dual_of_marching_cubes(segment_threshold(p.volume, p.iso),
+                                      "size " + std::to_string(size));
+    }
 }

@@ -1,0 +1,329 @@
+// Keeping every iteration's mesh valid (contract: the header).
+#include "mesh_guard.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <vector>
+
+#include "parallel.h"
+#include "triangle_intersection.h"
+
+namespace snert {
+
+namespace {
+
+using Triangle = std::array<std::uint32_t, 3>;
+
+// The corners of polygon `id`: 4 for a quad, 3 for a fixed triangle.
+int polygon_corners(const SurfaceNet& net, std::uint32_t id, std::array<std::uint32_t, 4>& out) {
+    if (id < net.quads.size()) {
+        out = net.quads[id];
+        return 4;
+    }
+    const Triangle& t = net.triangles[id - net.quads.size()];
+    out = {t[0], t[1], t[2], 0};
+    return 3;
+}
+
+// The triangles of polygon `id` (a quad split by the rule, or a fixed triangle): 1 or 2.
+int polygon_triangles(const SurfaceNet& net, std::uint32_t id, std::span<const glm::vec3> p,
+                      TriangulationRule rule, glm::vec3 spacing, Triangle out[2]) {
+    if (id >= net.quads.size()) {
+        out[0] = net.triangles[id - net.quads.size()];
+        return 1;
+    }
+    const auto& q = net.quads[id];
+    if (quad_splits_along_ac(p[q[0]], p[q[1]], p[q[2]], p[q[3]], rule, spacing)) {
+        out[0] = {q[0], q[1], q[2]};
+        out[1] = {q[0], q[2], q[3]};
+    } else {
+        out[0] = {q[0], q[1], q[3]};
+        out[1] = {q[1], q[2], q[3]};
+    }
+    return 2;
+}
+
+// Smallest / largest angle in world units. Cheap when the smallest angle is at least 18 degrees
+// (then the ratio is at least 0.1 whatever the largest): sin(smallest) = 2 area / (product of
+// the two longer sides).
+float triangle_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const glm::vec3 ab = b - a, bc = c - b, ca = a - c;
+    const float lab = glm::length(ab), lbc = glm::length(bc), lca = glm::length(ca);
+    const float twice_area = glm::length(glm::cross(ab, -ca));
+    const float shortest = std::min({lab, lbc, lca});
+    const float product = lab * lbc * lca / std::max(shortest, 1e-30f);
+    if (twice_area >= 0.30902f * product) return 1.0f; // sin 18 degrees: not a sliver
+    const auto angle = [](glm::vec3 u, glm::vec3 v) {
+        return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+    };
+    const float alpha = angle(ab, -ca), beta = angle(bc, -ab), gamma = angle(ca, -bc);
+    const float largest = std::max({alpha, beta, gamma});
+    return largest > 0.0f ? std::min({alpha, beta, gamma}) / largest : 0.0f;
+}
+
+// Positions of the nodes in index space (for the split) and in world space (for the checks).
+struct Points {
+    std::span<const glm::vec3> index, world;
+};
+
+float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, TriangulationRule rule,
+                      glm::vec3 spacing) {
+    Triangle t[2];
+    const int count = polygon_triangles(net, id, p.index, rule, spacing, t);
+    float q = 1.0f;
+    for (int k = 0; k < count; ++k)
+        q = std::min(q, triangle_quality(p.world[t[k][0]], p.world[t[k][1]], p.world[t[k][2]]));
+    return q;
+}
+
+// A triangle of the cell being checked, with what the pair test needs precomputed.
+struct TriangleData {
+    Triangle nodes;
+    glm::vec3 corner[3];
+    glm::dvec3 normal; // (b - a) x (c - a), in double
+    double normal_length;
+    glm::vec3 lo, hi; // bounding box
+};
+
+TriangleData triangle_data(const Triangle& t, std::span<const glm::vec3> p) {
+    TriangleData d;
+    d.nodes = t;
+    for (int k = 0; k < 3; ++k) d.corner[k] = p[t[std::size_t(k)]];
+    const glm::dvec3 a0(d.corner[0]);
+    d.normal = glm::cross(glm::dvec3(d.corner[1]) - a0, glm::dvec3(d.corner[2]) - a0);
+    d.normal_length = glm::length(d.normal);
+    d.lo = glm::min(d.corner[0], glm::min(d.corner[1], d.corner[2]));
+    d.hi = glm::max(d.corner[0], glm::max(d.corner[1], d.corner[2]));
+    return d;
+}
+
+// True when the corners of `b` that are not corners of `a` lie strictly on one side of a's
+// plane, decided in double with a wide margin (else false: the exact test decides). Then b
+// meets a's plane at most in shared corners, so the two cannot intersect: the cheap early-out
+// of Moller's test, for the many pairs around one node that share a corner or an edge.
+bool separated_by_plane(const TriangleData& a, const TriangleData& b) {
+    if (!(a.normal_length > 0.0)) return false;
+    const glm::dvec3 a0(a.corner[0]);
+    int below = 0, above = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t n = b.nodes[std::size_t(k)];
+        if (n == a.nodes[0] || n == a.nodes[1] || n == a.nodes[2]) continue;
+        const glm::dvec3 w = glm::dvec3(b.corner[k]) - a0;
+        const double d = glm::dot(a.normal, w);
+        // Float inputs: the rounding error of d is far below 1e-9 of |n| |w|.
+        if (std::abs(d) <= 1e-9 * a.normal_length * (std::abs(w.x) + std::abs(w.y) + std::abs(w.z)))
+            return false;
+        (d < 0.0 ? below : above) += 1;
+    }
+    return below == 0 || above == 0;
+}
+
+void mark(std::vector<std::uint8_t>& flags, std::uint32_t node) {
+    std::atomic_ref<std::uint8_t>(flags[node]).store(1, std::memory_order_relaxed);
+}
+
+// Checks the cell whose nodes are `cell_nodes`: the quality of every polygon around them, and
+// every pair of their triangles. Marks the nodes of what is refused in `refused`.
+// For two triangles sharing the edge a-b (and nothing else): true when their free corners lie
+// strictly on opposite sides of the line a-b, decided in double with a wide margin. Then even
+// coplanar (a flat fold-free quad) they cannot overlap.
+bool open_at_shared_edge(const TriangleData& t, const TriangleData& u) {
+    int shared[2], free_t = -1, free_u = -1, count = 0;
+    for (int i = 0; i < 3; ++i) {
+        bool found = false;
+        for (int j = 0; j < 3; ++j)
+            found = found || t.nodes[std::size_t(i)] == u.nodes[std::size_t(j)];
+        if (found && count < 2) shared[count++] = i;
+        if (!found) free_t = i;
+    }
+    if (count != 2 || free_t < 0) return false;
+    for (int j = 0; j < 3; ++j)
+        if (u.nodes[std::size_t(j)] != t.nodes[std::size_t(shared[0])] &&
+            u.nodes[std::size_t(j)] != t.nodes[std::size_t(shared[1])])
+            free_u = j;
+    if (free_u < 0) return false;
+    const glm::dvec3 a(t.corner[shared[0]]), edge = glm::dvec3(t.corner[shared[1]]) - a;
+    const glm::dvec3 c = glm::dvec3(t.corner[free_t]) - a, d = glm::dvec3(u.corner[free_u]) - a;
+    const glm::dvec3 sc = glm::cross(edge, c), sd = glm::cross(edge, d);
+    return glm::dot(sc, sd) < -1e-9 * glm::length(sc) * glm::length(sd);
+}
+
+// Checks every pair of triangles of the polygons around `cell_nodes` (the nodes of one cell),
+// except pairs of polygons that did not change (`changed`, per polygon) since a check that
+// passed them. Marks the nodes of intersecting pairs in `refused`.
+void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes,
+                TriangulationRule rule, glm::vec3 spacing, Points new_p,
+                const std::vector<std::uint8_t>& changed, std::vector<std::uint32_t>& polygons,
+                std::vector<TriangleData>& triangles, std::vector<std::uint32_t>& owner,
+                std::vector<std::uint8_t>& refused) {
+    polygons.clear();
+    for (std::uint32_t n : cell_nodes)
+        polygons.insert(polygons.end(), net.star.begin() + net.star_offsets[n],
+                        net.star.begin() + net.star_offsets[n + 1]);
+    std::sort(polygons.begin(), polygons.end());
+    polygons.erase(std::unique(polygons.begin(), polygons.end()), polygons.end());
+    triangles.clear();
+    owner.clear(); // first triangle of each polygon, and one past the last at the end
+    for (std::uint32_t id : polygons) {
+        owner.push_back(std::uint32_t(triangles.size()));
+        Triangle t[2];
+        const int count = polygon_triangles(net, id, new_p.index, rule, spacing, t);
+        for (int k = 0; k < count; ++k) triangles.push_back(triangle_data(t[k], new_p.world));
+    }
+    owner.push_back(std::uint32_t(triangles.size()));
+    // A pair of polygons is checked in one cell only: that of the lowest node they share (link
+    // nodes aside: their polygons also hold the two pieces they link), or in every cell they
+    // meet in when they share none (pieces of one cell).
+    const auto in_cell = [&](std::uint32_t n) {
+        return std::find(cell_nodes.begin(), cell_nodes.end(), n) != cell_nodes.end();
+    };
+    for (std::size_t i = 0; i < polygons.size(); ++i) {
+        std::array<std::uint32_t, 4> ci{};
+        const int ni = polygon_corners(net, polygons[i], ci);
+        for (std::size_t j = i; j < polygons.size(); ++j) {
+            if (!changed[polygons[i]] && !changed[polygons[j]]) continue;
+            std::array<std::uint32_t, 4> cj{};
+            const int nj = polygon_corners(net, polygons[j], cj);
+            std::uint32_t lowest = UINT32_MAX;
+            for (int x = 0; x < ni; ++x)
+                for (int y = 0; y < nj; ++y)
+                    if (ci[std::size_t(x)] == cj[std::size_t(y)] &&
+                        net.pieces[ci[std::size_t(x)]] != kLinkNodePiece)
+                        lowest = std::min(lowest, ci[std::size_t(x)]);
+            if (lowest != UINT32_MAX && !in_cell(lowest)) continue;
+            for (std::uint32_t u = owner[i]; u < owner[i + 1]; ++u)
+                for (std::uint32_t v = i == j ? u + 1 : owner[j]; v < owner[j + 1]; ++v) {
+                    const TriangleData& ta = triangles[u];
+                    const TriangleData& tb = triangles[v];
+                    if (glm::any(glm::lessThan(ta.hi, tb.lo)) ||
+                        glm::any(glm::lessThan(tb.hi, ta.lo)))
+                        continue;
+                    if (separated_by_plane(ta, tb) || separated_by_plane(tb, ta)) continue;
+                    if (open_at_shared_edge(ta, tb)) continue;
+                    if (!triangles_intersect(ta.corner, tb.corner)) continue;
+                    for (std::uint32_t n : ta.nodes) mark(refused, n);
+                    for (std::uint32_t n : tb.nodes) mark(refused, n);
+                }
+        }
+    }
+}
+
+// Marks the nodes of changed polygons that became slivers (or worse ones) in `refused`.
+void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing, Points old_p,
+                   Points new_p, const std::vector<std::uint8_t>& changed,
+                   std::vector<std::uint8_t>& refused) {
+    const std::size_t polygons = net.quads.size() + net.triangles.size();
+    for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t id = b; id < e; ++id) {
+            if (!changed[id]) continue;
+            const float q = polygon_quality(net, std::uint32_t(id), new_p, rule, spacing);
+            if (q >= float(kSliverQuality) ||
+                q >= polygon_quality(net, std::uint32_t(id), old_p, rule, spacing))
+                continue;
+            if (id < net.quads.size())
+                for (std::uint32_t n : net.quads[id]) mark(refused, n);
+            else
+                for (std::uint32_t n : net.triangles[id - net.quads.size()]) mark(refused, n);
+        }
+    });
+}
+
+} // namespace
+
+std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing,
+                            const IndexToWorld& to_world, std::span<const glm::vec3> old_positions,
+                            std::span<glm::vec3> new_positions) {
+    const std::size_t nodes = net.node_count();
+    if (net.star_offsets.size() != nodes + 1) return 0; // a net without polygons
+    std::vector<glm::vec3> old_world(nodes), new_world(nodes);
+    for_each_chunk(nodes, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+            old_world[i] = to_world(old_positions[i]);
+            new_world[i] = to_world(new_positions[i]);
+        }
+    });
+    const Points old_p{old_positions, old_world}, new_p{new_positions, new_world};
+    // Cells: runs of nodes with the same cell, plus the border copies of their nodes (appended
+    // at the end of the net). A link node needs no place: its polygons all hold a node of its
+    // cell.
+    std::vector<std::uint32_t> cell_starts;
+    std::vector<std::pair<glm::ivec3, std::uint32_t>> copies;
+    for (std::uint32_t i = 0; i < nodes; ++i) {
+        if (net.pieces[i] == 0) cell_starts.push_back(i);
+        if (net.pieces[i] == kBorderCopyPiece) copies.push_back({net.cells[i], i});
+    }
+    const auto cell_less = [](glm::ivec3 a, glm::ivec3 b) {
+        return a.z != b.z ? a.z < b.z : a.y != b.y ? a.y < b.y : a.x < b.x;
+    };
+    std::sort(copies.begin(), copies.end(), [&](const auto& a, const auto& b) {
+        return cell_less(a.first, b.first) || (a.first == b.first && a.second < b.second);
+    });
+    const auto cell_nodes = [&](std::size_t c, std::vector<std::uint32_t>& out) {
+        out.clear();
+        const std::uint32_t first = cell_starts[c];
+        out.push_back(first);
+        for (std::uint32_t n = first + 1;
+             n < nodes && net.pieces[n] != 0 && net.pieces[n] < kBorderCopyPiece; ++n)
+            out.push_back(n);
+        const glm::ivec3 cell = net.cells[first];
+        auto it =
+            std::lower_bound(copies.begin(), copies.end(), cell,
+                             [&](const auto& e, glm::ivec3 v) { return cell_less(e.first, v); });
+        for (; it != copies.end() && it->first == cell; ++it) out.push_back(it->second);
+    };
+
+    // moved: nodes whose position changed since the last check (all, at first); changed: the
+    // polygons holding one; dirty: the nodes of those, whose cells must be checked again.
+    const std::size_t polygon_count = net.quads.size() + net.triangles.size();
+    std::vector<std::uint8_t> moved(nodes, 1), changed(polygon_count, 1), dirty(nodes, 1);
+    std::vector<std::uint8_t> refused(nodes, 0), shortened(nodes, 0);
+    constexpr int kHalvings = 2, kMaxRounds = 64;
+    for (int round = 0; round < kMaxRounds; ++round) {
+        std::fill(refused.begin(), refused.end(), 0);
+        check_quality(net, rule, spacing, old_p, new_p, changed, refused);
+        constexpr std::size_t kChunk = 1024;
+        for_each_chunk(cell_starts.size(), kChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+            std::vector<std::uint32_t> polygons, members, owner;
+            std::vector<TriangleData> triangles;
+            for (std::size_t c = b; c < e; ++c) {
+                cell_nodes(c, members);
+                bool any = false;
+                for (std::uint32_t n : members) any = any || dirty[n] != 0;
+                if (any)
+                    check_cell(net, members, rule, spacing, new_p, changed, polygons, triangles,
+                               owner, refused);
+            }
+        });
+        // Shorten the refused moves, and check again around them.
+        std::fill(moved.begin(), moved.end(), 0);
+        bool any = false;
+        for (std::uint32_t n = 0; n < nodes; ++n) {
+            if (!refused[n] || new_positions[n] == old_positions[n]) continue;
+            any = true;
+            moved[n] = 1;
+            shortened[n] = 1;
+            new_positions[n] = round < kHalvings
+                                   ? old_positions[n] + 0.5f * (new_positions[n] - old_positions[n])
+                                   : old_positions[n];
+            new_world[n] = to_world(new_positions[n]);
+        }
+        if (!any) break;
+        std::fill(changed.begin(), changed.end(), 0);
+        std::fill(dirty.begin(), dirty.end(), 0);
+        for (std::uint32_t n = 0; n < nodes; ++n) {
+            if (!moved[n]) continue;
+            for (std::uint32_t k = net.star_offsets[n]; k < net.star_offsets[n + 1]; ++k) {
+                const std::uint32_t id = net.star[k];
+                changed[id] = 1;
+                if (id < net.quads.size())
+                    for (std::uint32_t m : net.quads[id]) dirty[m] = 1;
+                else
+                    for (std::uint32_t m : net.triangles[id - net.quads.size()]) dirty[m] = 1;
+            }
+        }
+    }
+    return std::size_t(std::count(shortened.begin(), shortened.end(), 1));
+}
+
+} // namespace snert

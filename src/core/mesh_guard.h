@@ -1,0 +1,35 @@
+// Keeping every iteration's mesh valid for finite-element work: a relaxation step may move a
+// node only as far as the triangulated net stays free of self-intersections and of new slivers.
+//
+// Nodes stay in their cells (the paper's constraint), so the triangles of a quad lie in the
+// 2 x 2 x 1 block of its four cells, and two quads can only meet inside a cell they share. For
+// each cell this checks every pair of triangles of the quads around its nodes (exactly, see
+// triangle_intersection.h), and each quad's smallest/largest angle: a quad under
+// kSliverQuality that was better before the step is refused too. The nodes of a refused pair or
+// quad take half their move, then none; the check is repeated around them until nothing is
+// refused. A step from a valid mesh therefore gives a valid mesh, at the price of moves left
+// short (counted by the caller).
+#pragma once
+
+#include <cstddef>
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "mesh.h"
+#include "metrics.h"
+#include "surface_net.h"
+#include "triangulation.h"
+
+namespace snert {
+
+// Shortens the moves from `old_positions` to `new_positions` (index space) where they would make
+// the net's mesh self-intersect or create a sliver. Quads split as triangulate() splits them with
+// `spacing`; the checks run on the world points `to_world` gives, which are the very floats a
+// mesh file holds (rounding there could otherwise make two triangles meet that did not in index
+// space). Returns the number of nodes whose move was shortened.
+std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing,
+                            const IndexToWorld& to_world, std::span<const glm::vec3> old_positions,
+                            std::span<glm::vec3> new_positions);
+
+} // namespace snert

@@ -1,0 +1,514 @@
+// Exact triangle-triangle intersection and the mesh's self-intersection count.
+//
+// This work is based on:
+//  - Shewchuk, Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
+//    Predicates (1997): the orient3d / orient2d expressions and their forward error bounds
+//    (o3derrboundA, ccwerrboundA), TwoSum, TwoDiff, and Grow-Expansion for the exact sum;
+//  - TwoProduct by a fused multiply-add (Ogita, Rump and Oishi 2005);
+//  - Devillers and Guigue, Faster Triangle-Triangle Intersection Tests (2002): the rejection of
+//    a pair by the sides of the other triangle's plane, which settles almost every pair;
+//  - the decomposition of the closed test into edges: two closed triangles (coplanar or not)
+//    meet exactly when an edge of one meets the other. Not coplanar, their common points lie on
+//    the planes' line, where each triangle is an interval whose ends lie on its edges, and two
+//    intervals that overlap share an end of one of them; coplanar, two convex polygons meet
+//    when their boundaries cross or one holds the other, whose edges then lie inside it.
+// A shared corner p reduces to the edges opposite p: the triangles' common part is convex and
+// holds p, and when it holds more than p its boundary runs along an opposite edge (a polygon or
+// segment from p bounded only by the sides through p is the point p alone).
+//
+// Compiled with -ffp-contract=off (src/core/CMakeLists.txt): the error-free transformations and
+// the error bounds assume every operation rounds once, as written.
+#include "triangle_intersection.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "parallel.h"
+
+namespace snert {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Exact arithmetic.
+
+constexpr double kEpsilon = 0x1p-53; // half an ulp of 1: the unit roundoff
+constexpr double kOrient3dBound = (7.0 + 56.0 * kEpsilon) * kEpsilon;
+constexpr double kOrient2dBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
+
+struct Two {
+    double hi, lo; // hi + lo exactly; hi is the rounded value
+};
+
+Two two_sum(double a, double b) {
+    const double s = a + b;
+    const double bv = s - a;
+    const double av = s - bv;
+    return {s, (a - av) + (b - bv)};
+}
+
+Two two_diff(double a, double b) {
+    const double s = a - b;
+    const double bv = a - s;
+    const double av = s + bv;
+    return {s, (a - av) + (bv - b)};
+}
+
+Two two_product(double a, double b) {
+    const double p = a * b;
+    return {p, std::fma(a, b, -p)};
+}
+
+// An exact sum of many doubles, kept as a nonoverlapping expansion in increasing magnitude with
+// zeros removed (Grow-Expansion); its sign is the sign of its largest component.
+template <std::size_t N> class ExactSum {
+  public:
+    void add(double b) {
+        double q = b;
+        std::size_t m = 0;
+        for (std::size_t i = 0; i < n_; ++i) { // m <= i: writing e_[m] never clobbers unread parts
+            const Two s = two_sum(q, e_[i]);
+            q = s.hi;
+            if (s.lo != 0.0) e_[m++] = s.lo;
+        }
+        if (q != 0.0) e_[m++] = q;
+        n_ = m;
+    }
+    // x * y * z exactly: four doubles.
+    void add_product(double x, double y, double z, double sign) {
+        const Two xy = two_product(x, y);
+        const Two h = two_product(xy.hi, z), l = two_product(xy.lo, z);
+        add(sign * h.hi);
+        add(sign * h.lo);
+        add(sign * l.hi);
+        add(sign * l.lo);
+    }
+    void add_product(double x, double y, double sign) {
+        const Two xy = two_product(x, y);
+        add(sign * xy.hi);
+        add(sign * xy.lo);
+    }
+    int sign() const { return n_ == 0 ? 0 : e_[n_ - 1] > 0 ? 1 : -1; }
+
+  private:
+    std::array<double, N> e_{};
+    std::size_t n_ = 0;
+};
+
+int sign_of(double v) {
+    return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
+
+// The exact determinant, term by term, with every difference split into hi + lo: 6 products
+// of three two-part factors, 8 combinations each, 4 doubles per combination.
+int orient3d_exact(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
+    Two ad[3], bd[3], cd[3];
+    for (int k = 0; k < 3; ++k) {
+        ad[k] = two_diff(a[k], d[k]);
+        bd[k] = two_diff(b[k], d[k]);
+        cd[k] = two_diff(c[k], d[k]);
+    }
+    ExactSum<192> sum;
+    // det = adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (adx bdy - bdx ady)
+    auto term = [&](const Two& x, const Two& y, const Two& z, double sign) {
+        for (double xi : {x.hi, x.lo})
+            for (double yi : {y.hi, y.lo})
+                for (double zi : {z.hi, z.lo}) sum.add_product(xi, yi, zi, sign);
+    };
+    term(ad[2], bd[0], cd[1], 1.0);
+    term(ad[2], cd[0], bd[1], -1.0);
+    term(bd[2], cd[0], ad[1], 1.0);
+    term(bd[2], ad[0], cd[1], -1.0);
+    term(cd[2], ad[0], bd[1], 1.0);
+    term(cd[2], bd[0], ad[1], -1.0);
+    return sum.sign();
+}
+
+int orient2d_exact(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    const Two acx = two_diff(a.x, c.x), acy = two_diff(a.y, c.y);
+    const Two bcx = two_diff(b.x, c.x), bcy = two_diff(b.y, c.y);
+    ExactSum<16> sum;
+    for (double x : {acx.hi, acx.lo})
+        for (double y : {bcy.hi, bcy.lo}) sum.add_product(x, y, 1.0);
+    for (double x : {acy.hi, acy.lo})
+        for (double y : {bcx.hi, bcx.lo}) sum.add_product(x, y, -1.0);
+    return sum.sign();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Closed segment and triangle tests on exact signs.
+
+glm::vec2 drop_axis(glm::vec3 p, int axis) {
+    return axis == 0 ? glm::vec2(p.y, p.z) : axis == 1 ? glm::vec2(p.z, p.x) : glm::vec2(p.x, p.y);
+}
+
+// An axis whose dropping keeps triangle abc a triangle (so the projection is one-to-one on its
+// plane), or -1 when the corners are collinear: the normal's components are these orient2d's.
+int projection_axis(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    for (int axis = 2; axis >= 0; --axis)
+        if (orient2d(drop_axis(a, axis), drop_axis(b, axis), drop_axis(c, axis)) != 0) return axis;
+    return -1;
+}
+
+bool degenerate(const glm::vec3 t[3]) {
+    return projection_axis(t[0], t[1], t[2]) < 0;
+}
+
+// r within the box of p and q; for collinear points: r on the closed segment pq.
+bool in_box(glm::vec2 p, glm::vec2 q, glm::vec2 r) {
+    return std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= r.y &&
+           r.y <= std::max(p.y, q.y);
+}
+
+bool segments_meet_2d(glm::vec2 p, glm::vec2 q, glm::vec2 r, glm::vec2 s) {
+    const int o1 = orient2d(p, q, r), o2 = orient2d(p, q, s);
+    const int o3 = orient2d(r, s, p), o4 = orient2d(r, s, q);
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    return (o1 == 0 && in_box(p, q, r)) || (o2 == 0 && in_box(p, q, s)) ||
+           (o3 == 0 && in_box(r, s, p)) || (o4 == 0 && in_box(r, s, q));
+}
+
+// Closed point-in-triangle for a non-degenerate 2D triangle: no two strictly opposite sides.
+bool point_in_triangle_2d(glm::vec2 p, glm::vec2 a, glm::vec2 b, glm::vec2 c) {
+    const int o1 = orient2d(a, b, p), o2 = orient2d(b, c, p), o3 = orient2d(c, a, p);
+    return (o1 >= 0 && o2 >= 0 && o3 >= 0) || (o1 <= 0 && o2 <= 0 && o3 <= 0);
+}
+
+bool segment_meets_triangle_2d(glm::vec2 p, glm::vec2 q, glm::vec2 a, glm::vec2 b, glm::vec2 c) {
+    return point_in_triangle_2d(p, a, b, c) || point_in_triangle_2d(q, a, b, c) ||
+           segments_meet_2d(p, q, a, b) || segments_meet_2d(p, q, b, c) ||
+           segments_meet_2d(p, q, c, a);
+}
+
+// Closed segments in space. Coplanar ones are compared in a projection that is one-to-one on
+// their plane; four collinear points along the axis of their largest spread.
+bool segments_meet_3d(glm::vec3 p, glm::vec3 q, glm::vec3 r, glm::vec3 s) {
+    if (orient3d(p, q, r, s) != 0) return false;
+    for (int axis = 2; axis >= 0; --axis) {
+        const glm::vec2 p2 = drop_axis(p, axis), q2 = drop_axis(q, axis);
+        const glm::vec2 r2 = drop_axis(r, axis), s2 = drop_axis(s, axis);
+        if (orient2d(p2, q2, r2) != 0 || orient2d(p2, q2, s2) != 0 || orient2d(p2, r2, s2) != 0 ||
+            orient2d(q2, r2, s2) != 0)
+            return segments_meet_2d(p2, q2, r2, s2);
+    }
+    const glm::vec3 lo = glm::min(glm::min(p, q), glm::min(r, s));
+    const glm::vec3 hi = glm::max(glm::max(p, q), glm::max(r, s));
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (double(hi[k]) - lo[k] > double(hi[axis]) - lo[axis]) axis = k;
+    return std::max(std::min(p[axis], q[axis]), std::min(r[axis], s[axis])) <=
+           std::min(std::max(p[axis], q[axis]), std::max(r[axis], s[axis]));
+}
+
+// Closed segment pq against closed triangle t (a degenerate one is the union of its edges).
+bool segment_meets_triangle(glm::vec3 p, glm::vec3 q, const glm::vec3 t[3]) {
+    const int axis = projection_axis(t[0], t[1], t[2]);
+    if (axis < 0)
+        return segments_meet_3d(p, q, t[0], t[1]) || segments_meet_3d(p, q, t[1], t[2]) ||
+               segments_meet_3d(p, q, t[2], t[0]);
+    const int sp = orient3d(t[0], t[1], t[2], p), sq = orient3d(t[0], t[1], t[2], q);
+    if (sp * sq > 0) return false;
+    if (sp == 0 && sq == 0)
+        return segment_meets_triangle_2d(drop_axis(p, axis), drop_axis(q, axis),
+                                         drop_axis(t[0], axis), drop_axis(t[1], axis),
+                                         drop_axis(t[2], axis));
+    // pq meets the plane in one point, inside the triangle when the line pq passes no edge on
+    // the outer side (all three line-edge orientations agree, zeros allowed).
+    const int o1 = orient3d(p, q, t[0], t[1]), o2 = orient3d(p, q, t[1], t[2]);
+    const int o3 = orient3d(p, q, t[2], t[0]);
+    return (o1 >= 0 && o2 >= 0 && o3 >= 0) || (o1 <= 0 && o2 <= 0 && o3 <= 0);
+}
+
+// The corners of u not flagged in `skip` lie strictly on one side of the plane of t (which is
+// then a proper triangle). u then meets that plane in its skipped corners' hull at most: when
+// those are the shared ones, the pair meets in shared corners or the shared edge only. This
+// settles almost every pair of a mesh with one to three filtered orient3d.
+bool free_corners_off_plane(const glm::vec3 t[3], const glm::vec3 u[3], const bool skip[3]) {
+    int side = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (skip[k]) continue;
+        const int s = orient3d(t[0], t[1], t[2], u[k]);
+        if (s == 0 || (side != 0 && s != side)) return false;
+        side = s;
+    }
+    return side != 0;
+}
+
+// Tests the edges of `t` that do not end in a corner flagged in `skip` against closed `u`.
+bool edges_meet(const glm::vec3 t[3], const bool skip[3], const glm::vec3 u[3]) {
+    for (int k = 0; k < 3; ++k) {
+        const int l = (k + 1) % 3;
+        if (!skip[k] && !skip[l] && segment_meets_triangle(t[k], t[l], u)) return true;
+    }
+    return false;
+}
+
+bool distinct_corners(const glm::vec3 t[3]) {
+    return t[0] != t[1] && t[1] != t[2] && t[2] != t[0];
+}
+
+bool finite(const glm::vec3 t[3]) {
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(t[k].x) || !std::isfinite(t[k].y) || !std::isfinite(t[k].z))
+            return false;
+    return true;
+}
+
+// Two non-degenerate triangles sharing exactly the corners a[i], a[j] (= two corners of b):
+// they overlap beyond the edge only when coplanar with both free corners on one side of it.
+bool folded_onto_each_other(glm::vec3 p, glm::vec3 q, glm::vec3 free_a, glm::vec3 free_b) {
+    if (orient3d(p, q, free_a, free_b) != 0) return false;
+    const int axis = projection_axis(p, q, free_a);
+    const glm::vec2 p2 = drop_axis(p, axis), q2 = drop_axis(q, axis);
+    return orient2d(p2, q2, drop_axis(free_a, axis)) == orient2d(p2, q2, drop_axis(free_b, axis));
+}
+
+} // namespace
+
+int orient3d(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    const double adx = double(a.x) - d.x, ady = double(a.y) - d.y, adz = double(a.z) - d.z;
+    const double bdx = double(b.x) - d.x, bdy = double(b.y) - d.y, bdz = double(b.z) - d.z;
+    const double cdx = double(c.x) - d.x, cdy = double(c.y) - d.y, cdz = double(c.z) - d.z;
+    const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    const double cdxady = cdx * ady, adxcdy = adx * cdy;
+    const double adxbdy = adx * bdy, bdxady = bdx * ady;
+    const double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    const double permanent = (std::abs(bdxcdy) + std::abs(cdxbdy)) * std::abs(adz) +
+                             (std::abs(cdxady) + std::abs(adxcdy)) * std::abs(bdz) +
+                             (std::abs(adxbdy) + std::abs(bdxady)) * std::abs(cdz);
+    const double bound = kOrient3dBound * permanent;
+    if (det > bound || -det > bound) return sign_of(det);
+    return orient3d_exact(a, b, c, d);
+}
+
+int orient2d(glm::vec2 a, glm::vec2 b, glm::vec2 c) {
+    const double left = (double(a.x) - c.x) * (double(b.y) - c.y);
+    const double right = (double(a.y) - c.y) * (double(b.x) - c.x);
+    const double det = left - right;
+    const double bound = kOrient2dBound * (std::abs(left) + std::abs(right));
+    if (det > bound || -det > bound) return sign_of(det);
+    return orient2d_exact(a, b, c);
+}
+
+bool triangles_intersect(const glm::vec3 a[3], const glm::vec3 b[3]) {
+    // Two coincident corners make no facet (TetGen merges the corners and drops it); the
+    // quality metrics count such a triangle as degenerate.
+    if (!finite(a) || !finite(b) || !distinct_corners(a) || !distinct_corners(b)) return false;
+    bool shared_a[3] = {false, false, false}, shared_b[3] = {false, false, false};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (a[i] == b[j]) shared_a[i] = shared_b[j] = true;
+    const int shared = int(shared_a[0]) + int(shared_a[1]) + int(shared_a[2]);
+    if (shared < 3 &&
+        (free_corners_off_plane(a, b, shared_b) || free_corners_off_plane(b, a, shared_a)))
+        return false;
+    const bool none[3] = {false, false, false};
+    if (degenerate(a) || degenerate(b)) {
+        // A flat triangle that shares two corners with the other lies on the line of the shared
+        // edge, in the other's plane: folded onto it, as TetGen sees it too.
+        if (shared >= 2) return true;
+        return edges_meet(a, shared_a, b) || edges_meet(b, shared_b, a);
+    }
+    switch (shared) {
+    case 0:
+        return edges_meet(a, none, b) || edges_meet(b, none, a);
+    case 1: // the edges opposite the shared corner
+        return edges_meet(a, shared_a, b) || edges_meet(b, shared_b, a);
+    case 2: {
+        int free_a = 0, free_b = 0;
+        while (shared_a[free_a]) ++free_a;
+        while (shared_b[free_b]) ++free_b;
+        return folded_onto_each_other(a[(free_a + 1) % 3], a[(free_a + 2) % 3], a[free_a],
+                                      b[free_b]);
+    }
+    default: // the same three corners: a duplicate
+        return true;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The mesh's self-intersections.
+
+namespace {
+
+constexpr std::size_t kTriangleChunk = 1 << 12;
+constexpr std::size_t kMaxCells = std::size_t(1) << 22;
+
+struct Box {
+    glm::vec3 lo, hi;
+};
+
+// A uniform grid over the triangles' boxes, each triangle listed (in increasing order) in every
+// cell its box overlaps; compressed rows over the cells.
+struct BoxGrid {
+    glm::dvec3 origin{0.0};
+    double inverse_cell = 1.0;
+    glm::ivec3 dims{1};
+    std::vector<std::uint32_t> start; // cells + 1
+    std::vector<std::uint32_t> items; // triangle ids
+
+    glm::ivec3 cell_of(glm::vec3 p) const {
+        const glm::dvec3 f = glm::floor((glm::dvec3(p) - origin) * inverse_cell);
+        return glm::ivec3(glm::clamp(f, glm::dvec3(0.0), glm::dvec3(dims - 1)));
+    }
+    std::size_t index(glm::ivec3 c) const {
+        return (std::size_t(c.z) * std::size_t(dims.y) + std::size_t(c.y)) * std::size_t(dims.x) +
+               std::size_t(c.x);
+    }
+};
+
+// Calls visit(cell, index) for every cell the box overlaps.
+template <class Visit> void for_each_cell(const BoxGrid& grid, const Box& box, Visit&& visit) {
+    const glm::ivec3 lo = grid.cell_of(box.lo), hi = grid.cell_of(box.hi);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) visit(glm::ivec3(x, y, z), grid.index({x, y, z}));
+}
+
+// Cells of about the mean box size hold a few triangles each; the count is capped.
+BoxGrid make_grid(const std::vector<Box>& boxes, const std::vector<std::uint8_t>& valid) {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+    double size_sum = 0;
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < boxes.size(); ++t) {
+        if (!valid[t]) continue;
+        lo = glm::min(lo, glm::dvec3(boxes[t].lo));
+        hi = glm::max(hi, glm::dvec3(boxes[t].hi));
+        const glm::dvec3 e = glm::dvec3(boxes[t].hi) - glm::dvec3(boxes[t].lo);
+        size_sum += std::max({e.x, e.y, e.z});
+        ++count;
+    }
+    BoxGrid grid;
+    if (count == 0) return grid;
+    const glm::dvec3 extent = hi - lo;
+    const double largest = std::max({extent.x, extent.y, extent.z});
+    double cell = size_sum / double(count);
+    if (!(cell > largest * 1e-6)) cell = largest > 0 ? largest * 1e-3 : 1.0;
+    auto along = [&](double e) { return std::max(1.0, std::ceil(e / cell)); };
+    while (along(extent.x) * along(extent.y) * along(extent.z) > double(kMaxCells)) cell *= 1.1;
+    grid.dims = glm::ivec3(int(along(extent.x)), int(along(extent.y)), int(along(extent.z)));
+    grid.origin = lo;
+    grid.inverse_cell = 1.0 / cell;
+    return grid;
+}
+
+void fill_grid(BoxGrid& grid, const std::vector<Box>& boxes,
+               const std::vector<std::uint8_t>& valid) {
+    const std::size_t cells =
+        std::size_t(grid.dims.x) * std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    grid.start.assign(cells + 2, 0);
+    std::size_t entries = 0;
+    for (std::size_t t = 0; t < boxes.size(); ++t)
+        if (valid[t])
+            for_each_cell(grid, boxes[t], [&](glm::ivec3, std::size_t c) {
+                ++grid.start[c + 2];
+                ++entries;
+            });
+    if (entries >= std::numeric_limits<std::uint32_t>::max())
+        throw std::invalid_argument("self-intersections: mesh too large");
+    for (std::size_t c = 2; c < grid.start.size(); ++c) grid.start[c] += grid.start[c - 1];
+    grid.items.resize(entries);
+    for (std::size_t t = 0; t < boxes.size(); ++t)
+        if (valid[t])
+            for_each_cell(grid, boxes[t], [&](glm::ivec3, std::size_t c) {
+                grid.items[grid.start[c + 1]++] = std::uint32_t(t);
+            });
+    grid.start.pop_back();
+}
+
+bool boxes_overlap(const Box& a, const Box& b) {
+    return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y &&
+           a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
+}
+
+void check_indices(const Mesh& mesh) {
+    if (mesh.indices.size() % 3 != 0)
+        throw std::invalid_argument("mesh has " + std::to_string(mesh.indices.size()) +
+                                    " indices, not a multiple of 3");
+    if (mesh.triangle_count() >= std::numeric_limits<std::uint32_t>::max())
+        throw std::invalid_argument("self-intersections: too many triangles");
+    for (std::uint32_t i : mesh.indices)
+        if (i >= mesh.positions.size())
+            throw std::invalid_argument("mesh index " + std::to_string(i) + " out of range (" +
+                                        std::to_string(mesh.positions.size()) + " vertices)");
+}
+
+} // namespace
+
+SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
+    check_indices(mesh);
+    const std::size_t triangles = mesh.triangle_count();
+    auto corners = [&](std::size_t t, glm::vec3 out[3]) {
+        for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
+    };
+    // Boxes; triangles with a non-finite corner intersect nothing and stay out of the grid.
+    std::vector<Box> boxes(triangles);
+    std::vector<std::uint8_t> valid(triangles, 0);
+    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t t = b; t < e; ++t) {
+            glm::vec3 p[3];
+            corners(t, p);
+            boxes[t] = {glm::min(p[0], glm::min(p[1], p[2])), glm::max(p[0], glm::max(p[1], p[2]))};
+            valid[t] = finite(p) ? 1 : 0;
+        }
+    });
+    BoxGrid grid = make_grid(boxes, valid);
+    fill_grid(grid, boxes, valid);
+    // The cell of each box's lowest corner. A pair belongs to the cell of the lowest corner of
+    // its boxes' overlap, max(lo_t, lo_u), whose cell is max(first_t, first_u): cell_of is
+    // monotone in each coordinate.
+    std::vector<glm::ivec3> first(triangles);
+    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t t = b; t < e; ++t) first[t] = grid.cell_of(boxes[t].lo);
+    });
+
+    struct Partial {
+        std::size_t count = 0;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // sorted, at most max_pairs
+    };
+    std::vector<Partial> partials(chunk_count(triangles, kTriangleChunk));
+    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+        Partial& part = partials[chunk];
+        std::vector<std::uint32_t> hits; // partners of one triangle, reused
+        for (std::size_t t = b; t < e; ++t) {
+            if (!valid[t]) continue;
+            glm::vec3 p[3], q[3];
+            corners(t, p);
+            hits.clear();
+            for_each_cell(grid, boxes[t], [&](glm::ivec3 cell, std::size_t c) {
+                for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
+                    const std::uint32_t u = grid.items[k];
+                    if (u <= t || glm::max(first[t], first[u]) != cell ||
+                        !boxes_overlap(boxes[t], boxes[u]))
+                        continue;
+                    corners(u, q);
+                    if (triangles_intersect(p, q)) hits.push_back(u);
+                }
+            });
+            part.count += hits.size();
+            std::sort(hits.begin(), hits.end());
+            for (std::uint32_t u : hits) {
+                if (part.pairs.size() >= max_pairs) break;
+                part.pairs.emplace_back(std::uint32_t(t), u);
+            }
+        }
+    });
+    SelfIntersections result;
+    for (const Partial& part : partials) {
+        result.count += part.count;
+        for (const auto& pair : part.pairs) {
+            if (result.pairs.size() >= max_pairs) break;
+            result.pairs.push_back(pair);
+        }
+    }
+    return result;
+}
+
+std::size_t count_self_intersections(const Mesh& mesh) {
+    return self_intersections(mesh, 0).count;
+}
+
+} // namespace snert

@@ -1,0 +1,293 @@
+// Exact predicates against integer arithmetic, triangle pairs made by hand for every rule of
+// triangle_intersection.h, and the mesh count against all pairs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <utility>
+
+#include "core/marching_cubes.h"
+#include "core/phantom.h"
+#include "core/triangle_intersection.h"
+
+namespace snert {
+namespace {
+
+using V = glm::vec3;
+
+// The answer must not depend on the order of the triangles or the rotation of their corners.
+void expect_pair(bool expected, V a0, V a1, V a2, V b0, V b1, V b2) {
+    const V a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2};
+    for (int r = 0; r < 3; ++r)
+        for (int s = 0; s < 3; ++s) {
+            const V ar[3] = {a[r], a[(r + 1) % 3], a[(r + 2) % 3]};
+            const V bs[3] = {b[s], b[(s + 1) % 3], b[(s + 2) % 3]};
+            EXPECT_EQ(triangles_intersect(ar, bs), expected) << "rotation " << r << ", " << s;
+            EXPECT_EQ(triangles_intersect(bs, ar), expected)
+                << "swapped, rotation " << r << ", " << s;
+        }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exact signs: points on a 2^-20 grid, so the determinant scaled by 2^60 is an integer.
+
+constexpr double kGrid = 0x1p-20;
+__extension__ typedef __int128 Int128; // products of three 25-bit differences
+
+int exact_orient3d(V a, V b, V c, V d) {
+    auto k = [](float v) { return Int128(std::llround(double(v) / kGrid)); };
+    const Int128 adx = k(a.x) - k(d.x), ady = k(a.y) - k(d.y), adz = k(a.z) - k(d.z);
+    const Int128 bdx = k(b.x) - k(d.x), bdy = k(b.y) - k(d.y), bdz = k(b.z) - k(d.z);
+    const Int128 cdx = k(c.x) - k(d.x), cdy = k(c.y) - k(d.y), cdz = k(c.z) - k(d.z);
+    const Int128 det = adx * (bdy * cdz - bdz * cdy) - ady * (bdx * cdz - bdz * cdx) +
+                       adz * (bdx * cdy - bdy * cdx);
+    return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
+TEST(Orient, ExactOnNearlyCoplanarPoints) {
+    std::mt19937 rng(7);
+    // Combinations a + s (b - a) + t (c - a) with small integer s, t stay on the grid and
+    // within float's 24 bits: exactly coplanar before the nudge.
+    std::uniform_int_distribution<int> coord(-(1 << 20), (1 << 20));
+    std::uniform_int_distribution<int> unit(-2, 3);
+    std::uniform_int_distribution<int> nudge(-2, 2);
+    auto on_grid = [](double units) { return float(std::round(units) * kGrid); };
+    int zeros = 0, filter_hard = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const V a(coord(rng) * kGrid, coord(rng) * kGrid, coord(rng) * kGrid);
+        const V b(coord(rng) * kGrid, coord(rng) * kGrid, coord(rng) * kGrid);
+        const V c(coord(rng) * kGrid, coord(rng) * kGrid, coord(rng) * kGrid);
+        // d near the plane of a, b, c: off by a few grid steps at most.
+        const double s = unit(rng), t = unit(rng); // integers
+        V d;
+        for (int k = 0; k < 3; ++k)
+            d[k] = on_grid((a[k] + s * (b[k] - a[k]) + t * (c[k] - a[k])) / kGrid + nudge(rng));
+        const int expected = exact_orient3d(a, b, c, d);
+        ASSERT_EQ(orient3d(a, b, c, d), expected) << i;
+        zeros += expected == 0;
+        const glm::dvec3 ad = glm::dvec3(a) - glm::dvec3(d), bd = glm::dvec3(b) - glm::dvec3(d),
+                         cd = glm::dvec3(c) - glm::dvec3(d);
+        const double naive = glm::dot(ad, glm::cross(bd, cd));
+        filter_hard += (naive > 0) - (naive < 0) != expected;
+    }
+    EXPECT_GT(zeros, 0);       // exactly coplanar cases were among them
+    EXPECT_GT(filter_hard, 0); // and cases where plain double arithmetic gets the sign wrong
+}
+
+TEST(Orient, Orient2dNearCollinear) {
+    // Shewchuk's example: points near the line y = x, an ulp apart, against (12, 12), (24, 24).
+    const float ulp = std::nextafter(0.5f, 1.0f) - 0.5f;
+    for (int i = 0; i < 64; ++i)
+        for (int j = 0; j < 64; ++j) {
+            const glm::vec2 p(0.5f + float(i) * ulp, 0.5f + float(j) * ulp);
+            const int expected = i < j ? 1 : i > j ? -1 : 0; // left of the line y = x: ccw
+            ASSERT_EQ(orient2d(p, {12.0f, 12.0f}, {24.0f, 24.0f}), expected) << i << " " << j;
+        }
+}
+
+TEST(Orient, Orient3dSignConvention) {
+    // d above (on the normal's side of) the counter-clockwise triangle: negative.
+    EXPECT_EQ(orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}), -1);
+    EXPECT_EQ(orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, -1}), 1);
+    EXPECT_EQ(orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 7, 0}), 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pairs without a shared corner.
+
+TEST(TriangleIntersection, Disjoint) {
+    expect_pair(false, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1});
+    // Planes cross, triangles do not reach each other.
+    expect_pair(false, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, -1}, {3, 2, 1}, {2, 3, 1});
+}
+
+TEST(TriangleIntersection, Crossing) {
+    // Two triangles through each other like links of a chain.
+    expect_pair(true, {-1, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 1, -1}, {0, 1, 1}, {0, -1, 0});
+}
+
+TEST(TriangleIntersection, Piercing) {
+    // A thin triangle stabs the middle of a big one.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, -1}, {1.1f, 1, 1}, {1, 1.1f, 1});
+}
+
+TEST(TriangleIntersection, TouchingCounts) {
+    // A corner of b on the face of a, b above: touching counts, as in TetGen.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, 0}, {1, 2, 1}, {2, 1, 1});
+    // A corner of b on an edge of a.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {2, 0, 0}, {2, -1, 1}, {3, -1, 1});
+    // An edge of b lying across a.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, -1, 0}, {1, 3, 0}, {1, 1, 2});
+    // A corner on a corner at the same position is shared (below); one float step away it is not.
+    const float up = std::nextafter(0.0f, 1.0f);
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, up}, {1, 2, 1}, {2, 1, 1});
+}
+
+TEST(TriangleIntersection, Coplanar) {
+    // Overlapping, nested and disjoint in the plane z = 0.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, 0}, {5, 1, 0}, {1, 5, 0});
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, 0}, {2, 1, 0}, {1, 2, 0});
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {3, 3, 0}, {5, 3, 0}, {3, 5, 0});
+    // Disjoint in a tilted plane (x + y + z = 3), where the 2D projection decides.
+    expect_pair(false, {3, 0, 0}, {0, 3, 0}, {0, 0, 3}, {4, 1, -2}, {5, 0, -2}, {5, 1, -3});
+    // Coplanar, touching along part of an edge.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 0, 0}, {2, 0, 0}, {1, -1, 0});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shared corners and edges.
+
+TEST(TriangleIntersection, SharedEdge) {
+    const V p{0, 0, 0}, q{1, 0, 0};
+    expect_pair(false, p, q, {0, 1, 0}, q, p, {0, 0, 1});        // right dihedral
+    expect_pair(false, p, q, {0, 1, 0}, q, p, {0, -1, 0});       // flat, opposite sides
+    expect_pair(false, p, q, {0, 1, 0}, q, p, {0.5f, 1, 0.01f}); // very sharp dihedral
+    expect_pair(true, p, q, {0, 1, 0}, q, p, {0.5f, 1, 0});      // folded flat onto each other
+    expect_pair(true, p, q, {0, 1, 0}, p, q, {3, 2, 0});         // folded, the other winding
+}
+
+TEST(TriangleIntersection, SharedVertex) {
+    const V p{0, 0, 0};
+    // Two faces of a fan: meet only at p.
+    expect_pair(false, p, {1, 0, 0}, {0, 1, 0}, p, {0, 0, 1}, {-1, 0, 0});
+    // b pierces a near p (b's opposite edge passes under a, b's plane crosses a).
+    expect_pair(true, p, {4, 0, 0}, {0, 4, 0}, p, {1, 1, 1}, {1, 1, -1});
+    // b touches a's opposite edge.
+    expect_pair(true, p, {4, 0, 0}, {0, 4, 0}, p, {2, 2, 0}, {2, 2, 3});
+    // Coplanar, overlapping sectors.
+    expect_pair(true, p, {4, 0, 0}, {0, 4, 0}, p, {4, 1, 0}, {4, 4, 0});
+    // Coplanar, sectors meeting only at p.
+    expect_pair(false, p, {4, 0, 0}, {0, 4, 0}, p, {-1, -1, 0}, {-1, -4, 0});
+    // Coplanar, an edge of one running along an edge of the other beyond p.
+    expect_pair(true, p, {4, 0, 0}, {0, 4, 0}, p, {2, 0, 0}, {2, -1, 0});
+    // Not coplanar, an edge along an edge beyond p.
+    expect_pair(true, p, {4, 0, 0}, {0, 4, 0}, p, {2, 0, 0}, {2, 0, 1});
+}
+
+TEST(TriangleIntersection, Duplicate) {
+    expect_pair(true, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {0, 1, 0}, {1, 0, 0});
+}
+
+TEST(TriangleIntersection, NearDegenerate) {
+    // A needle one float step from being flat, crossing a big triangle.
+    const float e = std::nextafter(1.0f, 2.0f) - 1.0f;
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, -1}, {1, 1, 1}, {1 + e, 1, 1});
+    // A tilted triangle and its copy lifted by 1e-6 in z (more than the rounding of the sums):
+    // the copy lies strictly above a's plane, a hair's breadth away.
+    const V a0{0.1f, 0.2f, 0.3f}, a1{1.7f, 0.4f, 0.9f}, a2{0.3f, 1.9f, 0.2f};
+    const V up{0.0f, 0.0f, 1e-6f};
+    expect_pair(false, a0, a1, a2, a0 + up, a1 + up, a2 + up);
+    // The same copy hinged at a0: it touches a at the shared corner only.
+    expect_pair(false, a0, a1, a2, a0, a1 + up, a2 + up);
+    // Lowered instead of lifted at one corner, the hinged copy crosses a near that corner's edge.
+    expect_pair(true, a0, a1, a2, a0, a1 + up, a2 - up);
+    // The exact collinear case: a flat triangle across a (treated as its edges).
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, -1}, {1, 1, 0}, {1, 1, 1});
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, 1}, {1, 1, 2}, {1, 1, 3});
+    // Flat along a shared edge (its third corner on the edge): folded onto the other, as TetGen
+    // reports it; with two coincident corners it is a mere segment on the edge.
+    expect_pair(true, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 0}, {2, 0, 0}, {4, 0, 0});
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 0}, {0, 0, 0}, {4, 0, 0});
+    // Two coincident corners: no facet, even where the segment pierces the other triangle.
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, -1}, {1, 1, -1}, {1, 1, 1});
+    // Flat, one shared corner, the rest pointing away: touches only there.
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 0}, {-1, -1, 0}, {-2, -2, 0});
+}
+
+TEST(TriangleIntersection, NonFiniteIntersectsNothing) {
+    const float nan = std::nanf("");
+    expect_pair(false, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, -1}, {1, 1, 1}, {nan, 1, 1});
+}
+
+TEST(TriangleIntersection, OrderFreeOnASmallGrid) {
+    // Corners on a 3 x 3 x 3 grid: shared corners, coplanar and collinear cases galore. The
+    // answer may not depend on which triangle comes first, on rotation or on winding.
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> coord(0, 2);
+    auto corner = [&] { return V(float(coord(rng)), float(coord(rng)), float(coord(rng))); };
+    int hits = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const V a[3] = {corner(), corner(), corner()}, b[3] = {corner(), corner(), corner()};
+        const bool base = triangles_intersect(a, b);
+        hits += base;
+        const V a_reversed[3] = {a[0], a[2], a[1]};
+        ASSERT_EQ(triangles_intersect(a_reversed, b), base) << i;
+        for (int r = 0; r < 3; ++r) {
+            const V br[3] = {b[r], b[(r + 1) % 3], b[(r + 2) % 3]};
+            ASSERT_EQ(triangles_intersect(br, a), base) << i;
+        }
+    }
+    EXPECT_GT(hits, 300);
+    EXPECT_LT(hits, 2900);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mesh counts.
+
+Mesh sphere_mesh(int size) {
+    const Phantom sphere = make_phantom("sphere", size);
+    return marching_cubes(sphere.volume, {sphere.iso, InsideIs::Above});
+}
+
+TEST(SelfIntersections, ClosedSphereHasNone) {
+    const Mesh mesh = sphere_mesh(32);
+    ASSERT_GT(mesh.triangle_count(), 1000u);
+    EXPECT_EQ(count_self_intersections(mesh), 0u);
+}
+
+TEST(SelfIntersections, PushedThroughVertex) {
+    Mesh mesh = sphere_mesh(32);
+    // The vertex farthest along +x, mirrored through the centre and beyond the far side: its
+    // triangles become spikes that pierce the opposite wall.
+    std::size_t far = 0;
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+        if (mesh.positions[v].x > mesh.positions[far].x) far = v;
+    const glm::vec3 centre(15.5f);
+    mesh.positions[far] = centre - 1.3f * (mesh.positions[far] - centre);
+    const SelfIntersections found = self_intersections(mesh, 8);
+    EXPECT_GT(found.count, 0u);
+    ASSERT_FALSE(found.pairs.empty());
+    for (const auto& [t, u] : found.pairs) EXPECT_LT(t, u);
+    // Every pair involves one of the moved vertex's triangles.
+    for (const auto& [t, u] : found.pairs) {
+        bool moved = false;
+        for (int k = 0; k < 3; ++k)
+            moved = moved || mesh.indices[3 * t + std::size_t(k)] == far ||
+                    mesh.indices[3 * u + std::size_t(k)] == far;
+        EXPECT_TRUE(moved);
+    }
+}
+
+TEST(SelfIntersections, GridMatchesAllPairs) {
+    // A small sphere with every vertex jittered hard: many intersecting pairs, all kinds.
+    Mesh mesh = sphere_mesh(12);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> jitter(-0.6f, 0.6f);
+    for (glm::vec3& p : mesh.positions) p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    std::size_t brute = 0;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        for (std::size_t u = t + 1; u < mesh.triangle_count(); ++u) {
+            glm::vec3 a[3], b[3];
+            for (int k = 0; k < 3; ++k) {
+                a[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
+                b[k] = mesh.positions[mesh.indices[3 * u + std::size_t(k)]];
+            }
+            brute += triangles_intersect(a, b) ? 1 : 0;
+        }
+    EXPECT_GT(brute, 0u);
+    const SelfIntersections found = self_intersections(mesh, 1u << 20);
+    EXPECT_EQ(found.count, brute);
+    EXPECT_EQ(found.pairs.size(), brute);
+    EXPECT_TRUE(std::is_sorted(found.pairs.begin(), found.pairs.end()));
+}
+
+TEST(SelfIntersections, EmptyAndBadMesh) {
+    EXPECT_EQ(count_self_intersections(Mesh{}), 0u);
+    Mesh bad;
+    bad.positions = {{0, 0, 0}};
+    bad.indices = {0, 0, 1};
+    EXPECT_THROW(count_self_intersections(bad), std::invalid_argument);
+}
+
+} // namespace
+} // namespace snert
