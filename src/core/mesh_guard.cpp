@@ -125,28 +125,35 @@ void mark(std::vector<std::uint8_t>& flags, std::uint32_t node) {
 
 // Checks the cell whose nodes are `cell_nodes`: the quality of every polygon around them, and
 // every pair of their triangles. Marks the nodes of what is refused in `refused`.
-// For two triangles sharing the edge a-b (and nothing else): true when their free corners lie
-// strictly on opposite sides of the line a-b, decided in double with a wide margin. Then even
-// coplanar (a flat fold-free quad) they cannot overlap.
-bool open_at_shared_edge(const TriangleData& t, const TriangleData& u) {
-    int shared[2], free_t = -1, free_u = -1, count = 0;
+// True when a plane through one edge of `a`, perpendicular to `a`, has `a`'s third corner
+// strictly on one side and every corner of `b` strictly on the other, or on the plane when it is
+// a shared corner of that edge (decided in double with a wide margin). Then the two meet at most
+// in that shared edge or corner. This settles the coplanar and nearly coplanar neighbours of a
+// flat region, which the triangles' own planes cannot separate.
+bool separated_by_edge_plane(const TriangleData& a, const TriangleData& b) {
+    if (!(a.normal_length > 0.0)) return false;
     for (int i = 0; i < 3; ++i) {
-        bool found = false;
-        for (int j = 0; j < 3; ++j)
-            found = found || t.nodes[std::size_t(i)] == u.nodes[std::size_t(j)];
-        if (found && count < 2) shared[count++] = i;
-        if (!found) free_t = i;
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        const glm::dvec3 origin(a.corner[i]);
+        const glm::dvec3 m = glm::cross(glm::dvec3(a.corner[j]) - origin, a.normal);
+        const double m1 = std::abs(m.x) + std::abs(m.y) + std::abs(m.z);
+        const glm::dvec3 wk = glm::dvec3(a.corner[k]) - origin;
+        const double side = glm::dot(wk, m);
+        if (std::abs(side) <= 1e-9 * m1 * (std::abs(wk.x) + std::abs(wk.y) + std::abs(wk.z)))
+            continue;
+        bool separated = true;
+        for (int c = 0; c < 3 && separated; ++c) {
+            const std::uint32_t n = b.nodes[std::size_t(c)];
+            if (n == a.nodes[std::size_t(i)] || n == a.nodes[std::size_t(j)]) continue;
+            if (n == a.nodes[std::size_t(k)]) separated = false;
+            const glm::dvec3 w = glm::dvec3(b.corner[c]) - origin;
+            const double d = glm::dot(w, m);
+            separated = separated && (d > 0.0) != (side > 0.0) &&
+                        std::abs(d) > 1e-9 * m1 * (std::abs(w.x) + std::abs(w.y) + std::abs(w.z));
+        }
+        if (separated) return true;
     }
-    if (count != 2 || free_t < 0) return false;
-    for (int j = 0; j < 3; ++j)
-        if (u.nodes[std::size_t(j)] != t.nodes[std::size_t(shared[0])] &&
-            u.nodes[std::size_t(j)] != t.nodes[std::size_t(shared[1])])
-            free_u = j;
-    if (free_u < 0) return false;
-    const glm::dvec3 a(t.corner[shared[0]]), edge = glm::dvec3(t.corner[shared[1]]) - a;
-    const glm::dvec3 c = glm::dvec3(t.corner[free_t]) - a, d = glm::dvec3(u.corner[free_u]) - a;
-    const glm::dvec3 sc = glm::cross(edge, c), sd = glm::cross(edge, d);
-    return glm::dot(sc, sd) < -1e-9 * glm::length(sc) * glm::length(sd);
+    return false;
 }
 
 // Checks every pair of triangles of the polygons around `cell_nodes` (the nodes of one cell),
@@ -200,7 +207,8 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
                         glm::any(glm::lessThan(tb.hi, ta.lo)))
                         continue;
                     if (separated_by_plane(ta, tb) || separated_by_plane(tb, ta)) continue;
-                    if (open_at_shared_edge(ta, tb)) continue;
+                    if (separated_by_edge_plane(ta, tb) || separated_by_edge_plane(tb, ta))
+                        continue;
                     if (!triangles_intersect(ta.corner, tb.corner)) continue;
                     for (std::uint32_t n : ta.nodes) mark(refused, n);
                     for (std::uint32_t n : tb.nodes) mark(refused, n);
