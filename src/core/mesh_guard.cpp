@@ -26,15 +26,21 @@ int polygon_corners(const SurfaceNet& net, std::uint32_t id, std::array<std::uin
     return 3;
 }
 
-// The triangles of polygon `id` (a quad split by the rule, or a fixed triangle): 1 or 2.
-int polygon_triangles(const SurfaceNet& net, std::uint32_t id, std::span<const glm::vec3> p,
-                      TriangulationRule rule, glm::vec3 spacing, Triangle out[2]) {
+// Whether quad `id` splits along its first diagonal at positions p (triangulate()'s choice).
+bool splits_along_ac(const SurfaceNet& net, std::uint32_t id, std::span<const glm::vec3> p,
+                     TriangulationRule rule, glm::vec3 spacing) {
+    const auto& q = net.quads[id];
+    return quad_splits_along_ac(p[q[0]], p[q[1]], p[q[2]], p[q[3]], rule, spacing);
+}
+
+// The triangles of polygon `id` (a quad split as `along_ac` says, or a fixed triangle): 1 or 2.
+int split_polygon(const SurfaceNet& net, std::uint32_t id, bool along_ac, Triangle out[2]) {
     if (id >= net.quads.size()) {
         out[0] = net.triangles[id - net.quads.size()];
         return 1;
     }
     const auto& q = net.quads[id];
-    if (quad_splits_along_ac(p[q[0]], p[q[1]], p[q[2]], p[q[3]], rule, spacing)) {
+    if (along_ac) {
         out[0] = {q[0], q[1], q[2]};
         out[1] = {q[0], q[2], q[3]};
     } else {
@@ -67,10 +73,9 @@ struct Points {
     std::span<const glm::vec3> index, world;
 };
 
-float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, TriangulationRule rule,
-                      glm::vec3 spacing) {
+float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, bool along_ac) {
     Triangle t[2];
-    const int count = polygon_triangles(net, id, p.index, rule, spacing, t);
+    const int count = split_polygon(net, id, along_ac, t);
     float q = 1.0f;
     for (int k = 0; k < count; ++k)
         q = std::min(q, triangle_quality(p.world[t[k][0]], p.world[t[k][1]], p.world[t[k][2]]));
@@ -160,7 +165,7 @@ bool separated_by_edge_plane(const TriangleData& a, const TriangleData& b) {
 // except pairs of polygons that did not change (`changed`, per polygon) since a check that
 // passed them. Marks the nodes of intersecting pairs in `refused`.
 void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes,
-                TriangulationRule rule, glm::vec3 spacing, Points new_p,
+                const std::vector<std::uint8_t>& along_ac, Points new_p,
                 const std::vector<std::uint8_t>& changed, std::vector<std::uint32_t>& polygons,
                 std::vector<TriangleData>& triangles, std::vector<std::uint32_t>& owner,
                 std::vector<std::uint8_t>& refused) {
@@ -175,7 +180,7 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
     for (std::uint32_t id : polygons) {
         owner.push_back(std::uint32_t(triangles.size()));
         Triangle t[2];
-        const int count = polygon_triangles(net, id, new_p.index, rule, spacing, t);
+        const int count = split_polygon(net, id, id < along_ac.size() && along_ac[id] != 0, t);
         for (int k = 0; k < count; ++k) triangles.push_back(triangle_data(t[k], new_p.world));
     }
     owner.push_back(std::uint32_t(triangles.size()));
@@ -217,22 +222,26 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
     }
 }
 
-// Marks the nodes of changed polygons that became slivers (or worse ones) in `refused`.
+// For the changed polygons: records how each quad splits at the new positions in `along_ac`, and
+// marks the nodes of those that became slivers (or worse ones) in `refused`.
 void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing, Points old_p,
                    Points new_p, const std::vector<std::uint8_t>& changed,
-                   std::vector<std::uint8_t>& refused) {
+                   std::vector<std::uint8_t>& along_ac, std::vector<std::uint8_t>& refused) {
     const std::size_t polygons = net.quads.size() + net.triangles.size();
     for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t id = b; id < e; ++id) {
-            if (!changed[id]) continue;
-            const float q = polygon_quality(net, std::uint32_t(id), new_p, rule, spacing);
-            if (q >= float(kSliverQuality) ||
-                q >= polygon_quality(net, std::uint32_t(id), old_p, rule, spacing))
-                continue;
-            if (id < net.quads.size())
-                for (std::uint32_t n : net.quads[id]) mark(refused, n);
-            else
-                for (std::uint32_t n : net.triangles[id - net.quads.size()]) mark(refused, n);
+        for (std::size_t i = b; i < e; ++i) {
+            if (!changed[i]) continue;
+            const auto id = std::uint32_t(i);
+            const bool quad = id < net.quads.size();
+            const bool split_new = quad && splits_along_ac(net, id, new_p.index, rule, spacing);
+            if (quad) along_ac[id] = split_new ? 1 : 0;
+            const float q = polygon_quality(net, id, new_p, split_new);
+            if (q >= float(kSliverQuality)) continue;
+            const bool split_old = quad && splits_along_ac(net, id, old_p.index, rule, spacing);
+            if (q >= polygon_quality(net, id, old_p, split_old)) continue;
+            std::array<std::uint32_t, 4> corners{};
+            const int count = polygon_corners(net, id, corners);
+            for (int k = 0; k < count; ++k) mark(refused, corners[std::size_t(k)]);
         }
     });
 }
@@ -285,11 +294,11 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
     // polygons holding one; dirty: the nodes of those, whose cells must be checked again.
     const std::size_t polygon_count = net.quads.size() + net.triangles.size();
     std::vector<std::uint8_t> moved(nodes, 1), changed(polygon_count, 1), dirty(nodes, 1);
-    std::vector<std::uint8_t> refused(nodes, 0), shortened(nodes, 0);
+    std::vector<std::uint8_t> refused(nodes, 0), shortened(nodes, 0), along_ac(net.quads.size());
     constexpr int kHalvings = 2, kMaxRounds = 64;
     for (int round = 0; round < kMaxRounds; ++round) {
         std::fill(refused.begin(), refused.end(), 0);
-        check_quality(net, rule, spacing, old_p, new_p, changed, refused);
+        check_quality(net, rule, spacing, old_p, new_p, changed, along_ac, refused);
         constexpr std::size_t kChunk = 1024;
         for_each_chunk(cell_starts.size(), kChunk, [&](std::size_t, std::size_t b, std::size_t e) {
             std::vector<std::uint32_t> polygons, members, owner;
@@ -299,8 +308,8 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                 bool any = false;
                 for (std::uint32_t n : members) any = any || dirty[n] != 0;
                 if (any)
-                    check_cell(net, members, rule, spacing, new_p, changed, polygons, triangles,
-                               owner, refused);
+                    check_cell(net, members, along_ac, new_p, changed, polygons, triangles, owner,
+                               refused);
             }
         });
         // Shorten the refused moves, and check again around them.
