@@ -248,6 +248,39 @@ void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spac
 
 } // namespace
 
+glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3 shape,
+                        std::span<const glm::vec3> positions, std::uint32_t node) {
+    if (net.star_offsets.size() != net.node_count() + 1) return glm::vec3(0.0f);
+    glm::vec3 push(0.0f);
+    const glm::vec3 p = positions[node] * shape;
+    for (std::uint32_t k = net.star_offsets[node]; k < net.star_offsets[node + 1]; ++k) {
+        const std::uint32_t id = net.star[k];
+        Triangle t[2];
+        const bool along =
+            id < net.quads.size() && splits_along_ac(net, id, positions, rule, shape);
+        const int count = split_polygon(net, id, along, t);
+        for (int j = 0; j < count; ++j) {
+            int at = -1;
+            for (int c = 0; c < 3; ++c)
+                if (t[j][std::size_t(c)] == node) at = c;
+            if (at < 0) continue;
+            const glm::vec3 a = positions[t[j][std::size_t((at + 1) % 3)]] * shape;
+            const glm::vec3 b = positions[t[j][std::size_t((at + 2) % 3)]] * shape;
+            if (triangle_quality(p, a, b) >= float(kSliverQuality)) continue;
+            // The node at the obtuse corner of a cap: lift it off the opposite side, towards the
+            // right isosceles triangle of a flat net (height half the side).
+            const glm::vec3 ab = b - a;
+            const float base = glm::length(ab);
+            if (!(base > 0.0f) || glm::dot(a - p, b - p) >= 0.0f) continue;
+            const glm::vec3 foot = a + ab * (glm::dot(p - a, ab) / (base * base));
+            const float height = glm::length(p - foot), wanted = 0.5f * base;
+            if (height < 1e-4f * base || height >= wanted) continue;
+            push += (wanted - height) * (p - foot) / height;
+        }
+    }
+    return push / shape;
+}
+
 std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing,
                             const IndexToWorld& to_world, std::span<const glm::vec3> old_positions,
                             std::span<glm::vec3> new_positions) {

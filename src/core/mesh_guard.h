@@ -32,4 +32,12 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                             const IndexToWorld& to_world, std::span<const glm::vec3> old_positions,
                             std::span<glm::vec3> new_positions);
 
+// A push (index space) that lifts `node` off the opposite side of every cap sliver (q < 0.1)
+// whose obtuse corner it is, towards a height of half that side (world shape: index offsets
+// times `shape`). Zero where the node is at no sliver's obtuse corner, so never on the phantoms.
+// Slivers the first net already has (where pieces share a cell across thick slices) would
+// otherwise stay: the guard keeps them from getting worse, not from staying.
+glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3 shape,
+                        std::span<const glm::vec3> positions, std::uint32_t node);
+
 } // namespace snert

@@ -92,6 +92,11 @@ glm::vec3 node_move(const SurfaceNet& net, const GreyField* grey, const RelaxOpt
         move += options.smoothing_weight * a;
     }
     if (use_grey) move += options.gradient_weight * step.d * step.step; // eq. 4 / eq. 6
+    // Part of keeping the mesh valid: the existing slivers are lifted (mesh_guard.h).
+    if (options.keep_valid && smoothing)
+        move += sliver_relief(net, options.triangulation,
+                              grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f), positions,
+                              node);
     return move;
 }
 

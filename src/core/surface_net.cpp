@@ -67,20 +67,6 @@ glm::vec3 edge_midpoint(int edge) {
     return m;
 }
 
-// The region code (surface_net.h) of the box [lo, hi] of a piece's edge midpoints. Along an
-// axis where all midpoints agree the box is widened to the half cell on their side (the whole
-// cell when they sit in the middle), so the node can still leave the plane of its edges.
-std::uint8_t piece_region(glm::vec3 lo, glm::vec3 hi) {
-    unsigned region = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-        unsigned code = 0;
-        if (hi[axis] <= 0.5f && lo[axis] < 0.5f) code = 1;
-        if (lo[axis] >= 0.5f && hi[axis] > 0.5f) code = 2;
-        region |= code << (2 * axis);
-    }
-    return std::uint8_t(region);
-}
-
 // Inside mask of cell c: bit k set when corner k (offset (k & 1, k >> 1 & 1, k >> 2 & 1)) is in.
 unsigned cell_mask(const Segmentation& s, glm::ivec3 c) {
     unsigned mask = 0;
@@ -457,23 +443,16 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
                 int first = 0;
                 for (int loop = 0; loop < c.loop_count; ++loop) {
                     glm::vec3 centre(0.5f);
-                    std::uint8_t region = 0;
                     if (c.loop_count > 1) {
-                        glm::vec3 lo(1.0f), hi(0.0f);
                         centre = glm::vec3(0.0f);
-                        for (int i = first; i < first + c.loop_size[loop]; ++i) {
-                            const glm::vec3 m = edge_midpoint(c.loop_edges[i]);
-                            centre += m;
-                            lo = glm::min(lo, m);
-                            hi = glm::max(hi, m);
-                        }
+                        for (int i = first; i < first + c.loop_size[loop]; ++i)
+                            centre += edge_midpoint(c.loop_edges[i]);
                         centre /= float(c.loop_size[loop]);
-                        region = piece_region(lo, hi);
                     }
                     first += c.loop_size[loop];
                     net.cells[id] = {x, y, z};
                     net.pieces[id] = std::uint8_t(loop);
-                    net.regions[id] = region;
+                    net.regions[id] = 0; // the whole cell
                     net.positions[id] = corner + centre;
                     ++id;
                 }

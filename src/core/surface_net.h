@@ -58,10 +58,11 @@ struct SurfaceNet {
     std::size_t link_count() const { return links.size() / 2; }
 };
 
-// A node's region: its whole cell for a cell's only piece (the paper's constraint). Pieces that
-// share a cell each keep to the bounding box of their crossed edges' midpoints, so they cannot
-// pass through each other; a link node keeps to the quarter of the face its segment cuts off.
-// Two bits per axis (x lowest): 0 the whole [0, 1], 1 [0, 0.5], 2 [0.5, 1], 3 the face at 1.
+// A node's region, where in its cell it may move: the whole cell (the paper's constraint), but
+// for a link node the quarter of the face its segment cuts off. Pieces that share a cell are
+// kept from passing through each other by the relaxation's mesh check (mesh_guard.h), not by
+// their regions. Two bits per axis (x lowest): 0 the whole [0, 1], 1 [0, 0.5], 2 [0.5, 1],
+// 3 the face at 1.
 struct NodeBox {
     glm::vec3 lo, hi; // index space
 };

@@ -294,3 +294,25 @@ TEST(Relaxation, DampingBringsEveryNodeToRest) {
                   std::sqrt(3.0f) * std::exp2(-float(int(k) + 1 - o.damping_start) / 5.0f) + 1e-6f);
     EXPECT_LE(r.max_moves.size(), 60u);
 }
+
+TEST(MeshGuard, SliverReliefLiftsTheObtuseCornerOfACap) {
+    // One quad split along a-c: triangle (a, b, c) is a cap with b almost on a-c.
+    SurfaceNet net;
+    net.cells.assign(4, glm::ivec3(0));
+    net.pieces.assign(4, 0);
+    net.regions.assign(4, 0);
+    net.positions = {{0, 0, 0}, {1, 0.05f, 0}, {2, 0, 0}, {1, 3, 0}};
+    net.quads = {{0, 1, 2, 3}};
+    net.star_offsets = {0, 1, 2, 3, 4};
+    net.star = {0, 0, 0, 0};
+    const glm::vec3 push =
+        sliver_relief(net, TriangulationRule::ShorterDiagonal, glm::vec3(1.0f), net.positions, 1);
+    // Away from a-c on b's side (+y), up to a height of half |a c|.
+    EXPECT_NEAR(push.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(push.y, 1.0f - 0.05f, 1e-5f);
+    EXPECT_NEAR(push.z, 0.0f, 1e-6f);
+    // Nodes at no sliver's obtuse corner get nothing.
+    EXPECT_EQ(
+        sliver_relief(net, TriangulationRule::ShorterDiagonal, glm::vec3(1.0f), net.positions, 3),
+        glm::vec3(0.0f));
+}

@@ -215,18 +215,18 @@ TEST(SurfaceNet, EveryCaseWithSeveralPiecesGetsOneNodePerPiece) {
     EXPECT_GT(split_cases, 0);
 }
 
-TEST(SurfaceNet, PiecesOfOneCellHaveDisjointRegions) {
-    // Two diagonal inside corners: two corner pieces, in opposite octants of the cell.
+TEST(SurfaceNet, PiecesOfOneCellStartApartNearTheirCorners) {
+    // Two diagonal inside corners: two corner pieces, each starting at its edges' centroid.
     Segmentation s = empty_segmentation({4, 4, 4});
     set_inside(s, 1, 1, 1);
     set_inside(s, 2, 2, 2);
     const SurfaceNet net = build_surface_net(s);
-    std::vector<NodeBox> boxes;
+    std::vector<glm::vec3> starts;
     for (std::size_t i = 0; i < net.node_count(); ++i)
-        if (net.cells[i] == glm::ivec3(1)) boxes.push_back(node_box(net, i));
-    ASSERT_EQ(boxes.size(), 2u);
-    EXPECT_TRUE(glm::any(glm::lessThanEqual(boxes[0].hi, boxes[1].lo)) ||
-                glm::any(glm::lessThanEqual(boxes[1].hi, boxes[0].lo)));
+        if (net.cells[i] == glm::ivec3(1)) starts.push_back(net.positions[i] - glm::vec3(1.0f));
+    ASSERT_EQ(starts.size(), 2u);
+    EXPECT_NEAR(glm::length(starts[0] - glm::vec3(1.0f / 6.0f)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(starts[1] - glm::vec3(5.0f / 6.0f)), 0.0f, 1e-6f);
 }
 
 TEST(SurfaceNet, DoubledLinkGetsANodeOfItsOwn) {
