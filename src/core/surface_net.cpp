@@ -15,6 +15,8 @@
 #include "surface_net.h"
 
 #include <algorithm>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "marching_cubes.h"
@@ -302,100 +304,193 @@ void add_stars(SurfaceNet& net) {
         [&](std::uint32_t n, std::uint32_t polygon) { net.star[cursor[n]++] = polygon; });
 }
 
-// At the volume border the quads of border grid edges are missing, and a node whose piece
-// leaves the volume twice keeps two separate fans of polygons: a pinched (non-manifold) vertex,
-// where Marching Cubes' open surface has two separate rims. Such a node gets a copy per extra
-// fan (same cell and region), which takes that fan's polygons and links; each starts a little
-// towards its own fan so the two are apart.
-void split_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint32_t, 2>>& links) {
-    const std::size_t nodes = net.node_count();
-    // Polygons around each node, and each polygon's corners as a small list.
-    const std::size_t quads = net.quads.size();
-    const auto corners = [&](std::uint32_t id, std::array<std::uint32_t, 4>& out) {
-        if (id < quads) {
-            out = net.quads[id];
-            return 4;
-        }
-        const auto& t = net.triangles[id - quads];
-        out = {t[0], t[1], t[2], 0};
-        return 3;
-    };
-    std::vector<std::uint32_t> offsets(nodes + 1, 0), star;
-    const std::size_t polygons = quads + net.triangles.size();
-    std::array<std::uint32_t, 4> c{};
-    for (std::uint32_t id = 0; id < polygons; ++id)
-        for (int k = 0, n = corners(id, c); k < n; ++k) ++offsets[c[std::size_t(k)] + 1];
-    for (std::size_t i = 0; i < nodes; ++i) offsets[i + 1] += offsets[i];
-    star.resize(offsets.back());
-    std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
-    for (std::uint32_t id = 0; id < polygons; ++id)
-        for (int k = 0, n = corners(id, c); k < n; ++k) star[cursor[c[std::size_t(k)]]++] = id;
+// The corners of polygon `id` of the net (quad, or fixed triangle after the quads): 4 or 3.
+int net_polygon_corners(const SurfaceNet& net, std::uint32_t id,
+                        std::array<std::uint32_t, 4>& out) {
+    if (id < net.quads.size()) {
+        out = net.quads[id];
+        return 4;
+    }
+    const auto& t = net.triangles[id - net.quads.size()];
+    out = {t[0], t[1], t[2], 0};
+    return 3;
+}
 
-    for (std::uint32_t node = 0; node < nodes; ++node) {
-        const std::uint32_t first = offsets[node], count = offsets[node + 1] - first;
-        if (count < 2) continue;
-        // Fans: polygons joined where they share an edge at the node (a neighbour).
-        std::vector<std::uint32_t> fan(count), neighbour_of(2 * count);
-        for (std::uint32_t k = 0; k < count; ++k) fan[k] = k;
-        const auto root = [&](std::uint32_t k) {
-            while (fan[k] != k) k = fan[k] = fan[fan[k]];
-            return k;
-        };
-        for (std::uint32_t k = 0; k < count; ++k) {
-            const int n = corners(star[first + k], c);
-            for (int j = 0; j < n; ++j)
-                if (c[std::size_t(j)] == node) {
-                    neighbour_of[2 * k] = c[std::size_t((j + n - 1) % n)];
-                    neighbour_of[2 * k + 1] = c[std::size_t((j + 1) % n)];
-                }
+// The fans of polygons around one node: polygons joined where they share an edge at the node.
+// For polygon k of the star, in_of[k] -> node -> out_of[k] are its two edges at the node.
+struct NodeFans {
+    std::vector<std::uint32_t> polygons, in_of, out_of, fan; // fan: a root per polygon
+    std::vector<std::uint32_t> roots;                        // one per fan
+};
+
+NodeFans node_fans(const SurfaceNet& net, std::uint32_t node, std::span<const std::uint32_t> star) {
+    NodeFans f;
+    f.polygons.assign(star.begin(), star.end());
+    const std::size_t count = star.size();
+    f.in_of.resize(count);
+    f.out_of.resize(count);
+    f.fan.resize(count);
+    std::array<std::uint32_t, 4> c{};
+    for (std::size_t k = 0; k < count; ++k) {
+        const int n = net_polygon_corners(net, star[k], c);
+        for (int j = 0; j < n; ++j)
+            if (c[std::size_t(j)] == node) {
+                f.in_of[k] = c[std::size_t((j + n - 1) % n)];
+                f.out_of[k] = c[std::size_t((j + 1) % n)];
+            }
+        f.fan[k] = std::uint32_t(k);
+    }
+    const auto root = [&](std::uint32_t k) {
+        while (f.fan[k] != k) k = f.fan[k] = f.fan[f.fan[k]];
+        return k;
+    };
+    for (std::uint32_t a = 0; a < count; ++a)
+        for (std::uint32_t b = a + 1; b < count; ++b)
+            if (f.in_of[a] == f.in_of[b] || f.in_of[a] == f.out_of[b] ||
+                f.out_of[a] == f.in_of[b] || f.out_of[a] == f.out_of[b])
+                f.fan[root(a)] = root(b);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        f.fan[k] = root(k);
+        if (std::find(f.roots.begin(), f.roots.end(), f.fan[k]) == f.roots.end())
+            f.roots.push_back(f.fan[k]);
+    }
+    return f;
+}
+
+// Two fans of a pinched border node joined by one triangle across one of the gaps between them
+// (where the piece met the border), as Marching Cubes' polygon there joins them: the vertex is
+// then manifold and the Euler characteristic stays MC's. A fan runs from a start neighbour (an
+// edge into the node that no polygon of the fan leaves by) to an end one; the triangle
+// (node, start of fan 1, end of fan 0) continues both windings. Empty where a fan has no single
+// start and end, or where the triangle's third edge exists already.
+std::optional<std::array<std::uint32_t, 3>>
+bridge_of_two_fans(const SurfaceNet& net, std::uint32_t node, const NodeFans& f,
+                   std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> star) {
+    std::array<std::uint32_t, 2> start{}, end{};
+    for (std::size_t r = 0; r < 2; ++r) {
+        int starts = 0, ends = 0;
+        for (std::size_t k = 0; k < f.polygons.size(); ++k) {
+            if (f.fan[k] != f.roots[r]) continue;
+            bool entered = false, left = false;
+            for (std::size_t m = 0; m < f.polygons.size(); ++m) {
+                if (f.fan[m] != f.roots[r]) continue;
+                entered = entered || f.out_of[m] == f.in_of[k];
+                left = left || f.in_of[m] == f.out_of[k];
+            }
+            if (!entered) start[r] = f.in_of[k], ++starts;
+            if (!left) end[r] = f.out_of[k], ++ends;
         }
-        for (std::uint32_t a = 0; a < 2 * count; ++a)
-            for (std::uint32_t b = a + 1; b < 2 * count; ++b)
-                if (neighbour_of[a] == neighbour_of[b]) fan[root(a / 2)] = root(b / 2);
-        std::vector<std::uint32_t> roots;
-        for (std::uint32_t k = 0; k < count; ++k)
-            if (std::find(roots.begin(), roots.end(), root(k)) == roots.end())
-                roots.push_back(root(k));
-        if (roots.size() < 2) continue;
-        for (std::size_t r = 0; r < roots.size(); ++r) {
-            const std::uint32_t owner = r == 0 ? node : std::uint32_t(net.node_count());
-            glm::vec3 centre(0.0f);
-            int around = 0;
-            for (std::uint32_t k = 0; k < count; ++k) {
-                if (root(k) != roots[r]) continue;
-                centre +=
-                    net.positions[neighbour_of[2 * k]] + net.positions[neighbour_of[2 * k + 1]];
-                around += 2;
-                if (r == 0) continue;
-                const std::uint32_t id = star[first + k];
-                auto& corner = id < quads ? net.quads[id][0] : net.triangles[id - quads][0];
-                std::uint32_t* p = &corner;
-                for (int j = 0; j < (id < quads ? 4 : 3); ++j)
-                    if (p[j] == node) p[j] = owner;
-                for (auto& l : links)
-                    for (int e = 0; e < 2; ++e)
-                        if (l[std::size_t(e)] == node &&
-                            (l[std::size_t(1 - e)] == neighbour_of[2 * k] ||
-                             l[std::size_t(1 - e)] == neighbour_of[2 * k + 1]))
-                            l[std::size_t(e)] = owner;
-            }
-            // A quarter of the way towards the fan's neighbours, kept inside the node's region.
-            const NodeBox box = node_box(net, node);
-            glm::vec3 start =
-                net.positions[node] + 0.25f * (centre / float(around) - net.positions[node]);
-            for (int a = 0; a < 3; ++a) {
-                const float inset = 0.01f * (box.hi[a] - box.lo[a]);
-                start[a] = std::clamp(start[a], box.lo[a] + inset, box.hi[a] - inset);
-            }
-            if (r == 0) {
-                net.positions[node] = start;
+        if (starts != 1 || ends != 1) return std::nullopt;
+    }
+    if (start[1] == end[0]) return std::nullopt;
+    std::array<std::uint32_t, 4> c{};
+    for (std::uint32_t k = offsets[end[0]]; k < offsets[end[0] + 1]; ++k) {
+        const int n = net_polygon_corners(net, star[k], c);
+        if (std::find(c.begin(), c.begin() + n, start[1]) != c.begin() + n) return std::nullopt;
+    }
+    return std::array<std::uint32_t, 3>{node, start[1], end[0]};
+}
+
+// Gives fan r > 0 of `node` a copy of the node (same cell and region) that takes its polygons
+// and links; each starts a little towards its own fan so the two are apart.
+void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
+                std::vector<std::array<std::uint32_t, 2>>& links) {
+    for (std::size_t r = 0; r < f.roots.size(); ++r) {
+        const std::uint32_t owner = r == 0 ? node : std::uint32_t(net.node_count());
+        glm::vec3 centre(0.0f);
+        int around = 0;
+        for (std::size_t k = 0; k < f.polygons.size(); ++k) {
+            if (f.fan[k] != f.roots[r]) continue;
+            centre += net.positions[f.in_of[k]] + net.positions[f.out_of[k]];
+            around += 2;
+            if (r == 0) continue;
+            const std::uint32_t id = f.polygons[k];
+            std::uint32_t* p = id < net.quads.size() ? net.quads[id].data()
+                                                     : net.triangles[id - net.quads.size()].data();
+            for (int j = 0; j < (id < net.quads.size() ? 4 : 3); ++j)
+                if (p[j] == node) p[j] = owner;
+            for (auto& l : links)
+                for (int e = 0; e < 2; ++e)
+                    if (l[std::size_t(e)] == node && (l[std::size_t(1 - e)] == f.in_of[k] ||
+                                                      l[std::size_t(1 - e)] == f.out_of[k]))
+                        l[std::size_t(e)] = owner;
+        }
+        const NodeBox box = node_box(net, node);
+        glm::vec3 start =
+            net.positions[node] + 0.25f * (centre / float(around) - net.positions[node]);
+        for (int a = 0; a < 3; ++a) {
+            const float inset = 0.01f * (box.hi[a] - box.lo[a]);
+            start[a] = std::clamp(start[a], box.lo[a] + inset, box.hi[a] - inset);
+        }
+        if (r == 0) {
+            net.positions[node] = start;
+            continue;
+        }
+        net.cells.push_back(net.cells[node]);
+        net.pieces.push_back(kBorderCopyPiece);
+        net.regions.push_back(net.regions[node]);
+        net.positions.push_back(start);
+    }
+}
+
+// At the volume border the quads of border grid edges are missing, and a node whose piece
+// leaves the volume twice keeps two separate fans of polygons: a pinched (non-manifold) vertex.
+// Two fans are joined by a bridge triangle (bridge_of_two_fans). Where that cannot be done
+// (three fans, no single start, the edge exists) the node is split into one node per fan
+// instead: manifold too, but the Euler characteristic rises by one per copy (no test volume
+// needs it). A change touches the stars of the nodes around it, so a node next to one changed in
+// this pass waits for the next pass, with stars built anew.
+void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint32_t, 2>>& links) {
+    constexpr int kPasses = 16;
+    for (int pass = 0; pass < kPasses; ++pass) {
+        const std::size_t nodes = net.node_count();
+        const std::size_t polygons = net.quads.size() + net.triangles.size();
+        std::vector<std::uint32_t> offsets(nodes + 1, 0), star;
+        std::array<std::uint32_t, 4> c{};
+        for (std::uint32_t id = 0; id < polygons; ++id)
+            for (int k = 0, n = net_polygon_corners(net, id, c); k < n; ++k)
+                ++offsets[c[std::size_t(k)] + 1];
+        for (std::size_t i = 0; i < nodes; ++i) offsets[i + 1] += offsets[i];
+        star.resize(offsets.back());
+        std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+        for (std::uint32_t id = 0; id < polygons; ++id)
+            for (int k = 0, n = net_polygon_corners(net, id, c); k < n; ++k)
+                star[cursor[c[std::size_t(k)]]++] = id;
+
+        std::vector<std::uint8_t> touched(nodes, 0);
+        bool waiting = false;
+        const auto touch_around = [&](std::uint32_t node) {
+            touched[node] = 1;
+            for (std::uint32_t k = offsets[node]; k < offsets[node + 1]; ++k)
+                for (int j = 0, n = net_polygon_corners(net, star[k], c); j < n; ++j)
+                    touched[c[std::size_t(j)]] = 1;
+        };
+        for (std::uint32_t node = 0; node < nodes; ++node) {
+            const std::span<const std::uint32_t> around(star.data() + offsets[node],
+                                                        offsets[node + 1] - offsets[node]);
+            if (around.size() < 2) continue;
+            const NodeFans f = node_fans(net, node, around);
+            if (f.roots.size() < 2) continue;
+            if (touched[node]) {
+                waiting = true;
                 continue;
             }
-            net.cells.push_back(net.cells[node]);
-            net.pieces.push_back(kBorderCopyPiece);
-            net.regions.push_back(net.regions[node]);
-            net.positions.push_back(start);
+            const auto bridge = f.roots.size() == 2
+                                    ? bridge_of_two_fans(net, node, f, offsets, star)
+                                    : std::nullopt;
+            if (bridge && (touched[(*bridge)[1]] || touched[(*bridge)[2]])) {
+                waiting = true;
+                continue;
+            }
+            touch_around(node);
+            if (bridge) {
+                for (std::uint32_t n : *bridge) touch_around(n);
+                net.triangles.push_back(*bridge);
+            } else if (pass + 1 < kPasses || !waiting) {
+                split_fans(net, node, f, links);
+            }
         }
+        if (!waiting) return;
     }
 }
 
@@ -539,7 +634,7 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
                      segmentation.index(p.x, p.y, p.z) * 3 + std::uint64_t(axis));
         }
     }
-    split_pinched_border_nodes(net, links);
+    mend_pinched_border_nodes(net, links);
     net.link_offsets.assign(net.node_count() + 1, 0);
     for (const auto& l : links) ++net.link_offsets[l[0] + 1], ++net.link_offsets[l[1] + 1];
     for (std::size_t k = 0; k < net.node_count(); ++k)

@@ -108,7 +108,8 @@ TEST_P(NetOnRealVolume, InitialNetIsTheDualOfMarchingCubes) {
     const Volume mask = mask_volume(v.segmentation, v.grey);
     const Topology mc = topology(marching_cubes(mask, {0.5f, InsideIs::Above}));
     EXPECT_EQ(t.watertight, mc.watertight);
-    if (mc.watertight) EXPECT_EQ(t.euler, mc.euler);
+    // Also where the surface leaves the volume (open there): the border bridges keep it.
+    EXPECT_EQ(t.euler, mc.euler);
 }
 
 namespace {
