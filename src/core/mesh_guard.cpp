@@ -15,17 +15,6 @@ namespace {
 
 using Triangle = std::array<std::uint32_t, 3>;
 
-// The corners of polygon `id`: 4 for a quad, 3 for a fixed triangle.
-int polygon_corners(const SurfaceNet& net, std::uint32_t id, std::array<std::uint32_t, 4>& out) {
-    if (id < net.quads.size()) {
-        out = net.quads[id];
-        return 4;
-    }
-    const Triangle& t = net.triangles[id - net.quads.size()];
-    out = {t[0], t[1], t[2], 0};
-    return 3;
-}
-
 // Whether quad `id` splits along its first diagonal at positions p (triangulate()'s choice).
 bool splits_along_ac(const SurfaceNet& net, std::uint32_t id, std::span<const glm::vec3> p,
                      TriangulationRule rule, glm::vec3 spacing) {

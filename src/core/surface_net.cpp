@@ -304,18 +304,6 @@ void add_stars(SurfaceNet& net) {
         [&](std::uint32_t n, std::uint32_t polygon) { net.star[cursor[n]++] = polygon; });
 }
 
-// The corners of polygon `id` of the net (quad, or fixed triangle after the quads): 4 or 3.
-int net_polygon_corners(const SurfaceNet& net, std::uint32_t id,
-                        std::array<std::uint32_t, 4>& out) {
-    if (id < net.quads.size()) {
-        out = net.quads[id];
-        return 4;
-    }
-    const auto& t = net.triangles[id - net.quads.size()];
-    out = {t[0], t[1], t[2], 0};
-    return 3;
-}
-
 // The fans of polygons around one node: polygons joined where they share an edge at the node.
 // For polygon k of the star, in_of[k] -> node -> out_of[k] are its two edges at the node.
 struct NodeFans {
@@ -332,7 +320,7 @@ NodeFans node_fans(const SurfaceNet& net, std::uint32_t node, std::span<const st
     f.fan.resize(count);
     std::array<std::uint32_t, 4> c{};
     for (std::size_t k = 0; k < count; ++k) {
-        const int n = net_polygon_corners(net, star[k], c);
+        const int n = polygon_corners(net, star[k], c);
         for (int j = 0; j < n; ++j)
             if (c[std::size_t(j)] == node) {
                 f.in_of[k] = c[std::size_t((j + n - 1) % n)];
@@ -385,7 +373,7 @@ bridge_of_two_fans(const SurfaceNet& net, std::uint32_t node, const NodeFans& f,
     if (start[1] == end[0]) return std::nullopt;
     std::array<std::uint32_t, 4> c{};
     for (std::uint32_t k = offsets[end[0]]; k < offsets[end[0] + 1]; ++k) {
-        const int n = net_polygon_corners(net, star[k], c);
+        const int n = polygon_corners(net, star[k], c);
         if (std::find(c.begin(), c.begin() + n, start[1]) != c.begin() + n) return std::nullopt;
     }
     return std::array<std::uint32_t, 3>{node, start[1], end[0]};
@@ -448,13 +436,13 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint
         std::vector<std::uint32_t> offsets(nodes + 1, 0), star;
         std::array<std::uint32_t, 4> c{};
         for (std::uint32_t id = 0; id < polygons; ++id)
-            for (int k = 0, n = net_polygon_corners(net, id, c); k < n; ++k)
+            for (int k = 0, n = polygon_corners(net, id, c); k < n; ++k)
                 ++offsets[c[std::size_t(k)] + 1];
         for (std::size_t i = 0; i < nodes; ++i) offsets[i + 1] += offsets[i];
         star.resize(offsets.back());
         std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
         for (std::uint32_t id = 0; id < polygons; ++id)
-            for (int k = 0, n = net_polygon_corners(net, id, c); k < n; ++k)
+            for (int k = 0, n = polygon_corners(net, id, c); k < n; ++k)
                 star[cursor[c[std::size_t(k)]]++] = id;
 
         std::vector<std::uint8_t> touched(nodes, 0);
@@ -462,7 +450,7 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint
         const auto touch_around = [&](std::uint32_t node) {
             touched[node] = 1;
             for (std::uint32_t k = offsets[node]; k < offsets[node + 1]; ++k)
-                for (int j = 0, n = net_polygon_corners(net, star[k], c); j < n; ++j)
+                for (int j = 0, n = polygon_corners(net, star[k], c); j < n; ++j)
                     touched[c[std::size_t(j)]] = 1;
         };
         for (std::uint32_t node = 0; node < nodes; ++node) {

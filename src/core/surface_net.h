@@ -81,6 +81,19 @@ inline NodeBox node_box(const SurfaceNet& net, std::size_t node) {
 
 SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& progress = {});
 
+// The corners of polygon `id` of the net (quad q as q, fixed triangle t as quads.size() + t, the
+// numbering of `star`): 4 or 3 of them, in winding order.
+inline int polygon_corners(const SurfaceNet& net, std::uint32_t id,
+                           std::array<std::uint32_t, 4>& out) {
+    if (id < net.quads.size()) {
+        out = net.quads[id];
+        return 4;
+    }
+    const auto& t = net.triangles[id - net.quads.size()];
+    out = {t[0], t[1], t[2], 0};
+    return 3;
+}
+
 namespace detail {
 // The piece (loop of the Marching Cubes case `inside_mask`) that holds cube edge `edge`, or -1
 // when the edge is not crossed. Corner and edge numbering as in marching_cubes.h.
