@@ -456,7 +456,11 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint
         for (std::uint32_t node = 0; node < nodes; ++node) {
             const std::span<const std::uint32_t> around(star.data() + offsets[node],
                                                         offsets[node + 1] - offsets[node]);
-            if (around.size() < 2) continue;
+            // Away from the border the net is MC's dual, manifold: only border cells can pinch.
+            const glm::ivec3 cell = net.cells[node];
+            const bool border = glm::any(glm::equal(cell, glm::ivec3(0))) ||
+                                glm::any(glm::equal(cell, net.cell_dims - 1));
+            if (around.size() < 2 || !border) continue;
             const NodeFans f = node_fans(net, node, around);
             if (f.roots.size() < 2) continue;
             if (touched[node]) {
