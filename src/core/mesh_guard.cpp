@@ -28,33 +28,24 @@ int split_polygon(const SurfaceNet& net, std::uint32_t id, bool along_ac, Triang
         out[0] = net.triangles[id - net.quads.size()];
         return 1;
     }
-    const auto& q = net.quads[id];
-    if (along_ac) {
-        out[0] = {q[0], q[1], q[2]};
-        out[1] = {q[0], q[2], q[3]};
-    } else {
-        out[0] = {q[0], q[1], q[3]};
-        out[1] = {q[1], q[2], q[3]};
-    }
+    const auto triangles = quad_triangles(net.quads[id], along_ac);
+    out[0] = triangles[0];
+    out[1] = triangles[1];
     return 2;
 }
 
-// Smallest / largest angle in world units. Cheap when the smallest angle is at least 18 degrees
-// (then the ratio is at least 0.1 whatever the largest): sin(smallest) = 2 area / (product of
-// the two longer sides).
-float triangle_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+// Smallest / largest angle (world units), as the metrics measure it (triangle_shape), but
+// cheap for the many triangles whose smallest angle is at least 18 degrees: their ratio is at
+// least 0.1 whatever the largest, so they count as 1 (no sliver). sin(smallest) = 2 area /
+// (product of the two longer sides).
+float sliver_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     const glm::vec3 ab = b - a, bc = c - b, ca = a - c;
     const float lab = glm::length(ab), lbc = glm::length(bc), lca = glm::length(ca);
     const float twice_area = glm::length(glm::cross(ab, -ca));
     const float shortest = std::min({lab, lbc, lca});
     const float product = lab * lbc * lca / std::max(shortest, 1e-30f);
     if (twice_area >= 0.30902f * product) return 1.0f; // sin 18 degrees: not a sliver
-    const auto angle = [](glm::vec3 u, glm::vec3 v) {
-        return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
-    };
-    const float alpha = angle(ab, -ca), beta = angle(bc, -ab), gamma = angle(ca, -bc);
-    const float largest = std::max({alpha, beta, gamma});
-    return largest > 0.0f ? std::min({alpha, beta, gamma}) / largest : 0.0f;
+    return triangle_shape(a, b, c).quality;
 }
 
 // Positions of the nodes in index space (for the split) and in world space (for the checks).
@@ -67,7 +58,7 @@ float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, bool al
     const int count = split_polygon(net, id, along_ac, t);
     float q = 1.0f;
     for (int k = 0; k < count; ++k)
-        q = std::min(q, triangle_quality(p.world[t[k][0]], p.world[t[k][1]], p.world[t[k][2]]));
+        q = std::min(q, sliver_quality(p.world[t[k][0]], p.world[t[k][1]], p.world[t[k][2]]));
     return q;
 }
 
@@ -117,8 +108,6 @@ void mark(std::vector<std::uint8_t>& flags, std::uint32_t node) {
     std::atomic_ref<std::uint8_t>(flags[node]).store(1, std::memory_order_relaxed);
 }
 
-// Checks the cell whose nodes are `cell_nodes`: the quality of every polygon around them, and
-// every pair of their triangles. Marks the nodes of what is refused in `refused`.
 // True when a plane through one edge of `a`, perpendicular to `a`, has `a`'s third corner
 // strictly on one side and every corner of `b` strictly on the other, or on the plane when it is
 // a shared corner of that edge (decided in double with a wide margin). Then the two meet at most
@@ -237,6 +226,30 @@ void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spac
 
 } // namespace
 
+std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule rule,
+                                        glm::vec3 shape, std::span<const glm::vec3> positions) {
+    std::vector<std::uint8_t> apex(net.node_count(), 0);
+    const std::size_t polygons = net.quads.size() + net.triangles.size();
+    for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+            const auto id = std::uint32_t(i);
+            Triangle t[2];
+            const bool along =
+                id < net.quads.size() && splits_along_ac(net, id, positions, rule, shape);
+            const int count = split_polygon(net, id, along, t);
+            for (int j = 0; j < count; ++j) {
+                glm::vec3 p[3];
+                for (int c = 0; c < 3; ++c) p[c] = positions[t[j][std::size_t(c)]] * shape;
+                if (sliver_quality(p[0], p[1], p[2]) >= float(kSliverQuality)) continue;
+                for (int c = 0; c < 3; ++c)
+                    if (glm::dot(p[(c + 1) % 3] - p[c], p[(c + 2) % 3] - p[c]) < 0.0f)
+                        mark(apex, t[j][std::size_t(c)]);
+            }
+        }
+    });
+    return apex;
+}
+
 glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3 shape,
                         std::span<const glm::vec3> positions, std::uint32_t node) {
     if (net.star_offsets.size() != net.node_count() + 1) return glm::vec3(0.0f);
@@ -255,7 +268,7 @@ glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3
             if (at < 0) continue;
             const glm::vec3 a = positions[t[j][std::size_t((at + 1) % 3)]] * shape;
             const glm::vec3 b = positions[t[j][std::size_t((at + 2) % 3)]] * shape;
-            if (triangle_quality(p, a, b) >= float(kSliverQuality)) continue;
+            if (sliver_quality(p, a, b) >= float(kSliverQuality)) continue;
             // The node at the obtuse corner of a cap: lift it off the opposite side, towards the
             // right isosceles triangle of a flat net (height half the side).
             const glm::vec3 ab = b - a;

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -37,6 +38,11 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
 // times `shape`). Zero where the node is at no sliver's obtuse corner, so never on the phantoms.
 // Slivers the first net already has (where pieces share a cell across thick slices) would
 // otherwise stay: the guard keeps them from getting worse, not from staying.
+// 1 for the nodes at the obtuse corner of a sliver (the only ones sliver_relief moves), so a
+// relaxation step can skip the others: one pass over the polygons instead of one per node.
+std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule rule,
+                                        glm::vec3 shape, std::span<const glm::vec3> positions);
+
 glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3 shape,
                         std::span<const glm::vec3> positions, std::uint32_t node);
 

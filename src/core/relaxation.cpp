@@ -76,7 +76,7 @@ GradientStep gradient_step(const GreyField& grey, glm::vec3 p) {
 // The move of one node for one sub-step; `smoothing` and `gradient` select the terms.
 glm::vec3 node_move(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                     std::span<const glm::vec3> positions, std::uint32_t node, bool smoothing,
-                    bool gradient) {
+                    bool gradient, bool at_sliver) {
     const glm::vec3 p = positions[node];
     glm::vec3 move(0.0f);
     const bool use_grey = gradient && grey != nullptr && options.mode != RelaxMode::Averaging;
@@ -93,7 +93,7 @@ glm::vec3 node_move(const SurfaceNet& net, const GreyField* grey, const RelaxOpt
     }
     if (use_grey) move += options.gradient_weight * step.d * step.step; // eq. 4 / eq. 6
     // Part of keeping the mesh valid: the existing slivers are lifted (mesh_guard.h).
-    if (options.keep_valid && smoothing)
+    if (at_sliver)
         move += sliver_relief(net, options.triangulation,
                               grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f), positions,
                               node);
@@ -130,13 +130,19 @@ float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
     // Jacobi: every node reads only old positions, so chunks of nodes run independently.
     constexpr std::size_t kChunk = 4096;
     const float margin = cell_margin(grey);
+    const glm::vec3 spacing = grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f);
+    const std::vector<std::uint8_t> at_sliver =
+        options.keep_valid && smoothing
+            ? sliver_apexes(net, options.triangulation, spacing, old_positions)
+            : std::vector<std::uint8_t>(old_positions.size(), 0);
     std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
     for_each_chunk(
         old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
             float local = 0.0f;
             for (std::size_t i = begin; i < end; ++i) {
-                const glm::vec3 move = node_move(net, grey, options, old_positions,
-                                                 std::uint32_t(i), smoothing, gradient);
+                const glm::vec3 move =
+                    node_move(net, grey, options, old_positions, std::uint32_t(i), smoothing,
+                              gradient, at_sliver[i] != 0);
                 const NodeBox box = inner_box(node_box(net, i), margin);
                 new_positions[i] =
                     constrain_move(old_positions[i], move, box.lo, box.hi, options.constraint);

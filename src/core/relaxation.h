@@ -50,10 +50,10 @@ struct RelaxOptions {
     // 2^-((k - damping_start) / damping_halving), so a node that cannot settle (its cell holds
     // no iso-surface point it can reach, and it bounces between faces) still comes to rest.
     int damping_start = 100;
+    float damping_halving = 10.0f;
     // Refuse (shorten) moves that would make the triangulated net self-intersect or add a sliver
     // (mesh_guard.h). Off only to see what the paper's plain step does.
     bool keep_valid = true;
-    float damping_halving = 10.0f;
 };
 
 // What the gradient term needs: the grey volume, and the gradient field when precomputed.

@@ -432,18 +432,10 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint
     constexpr int kPasses = 16;
     for (int pass = 0; pass < kPasses; ++pass) {
         const std::size_t nodes = net.node_count();
-        const std::size_t polygons = net.quads.size() + net.triangles.size();
-        std::vector<std::uint32_t> offsets(nodes + 1, 0), star;
+        // The stars as this pass starts (copies of them: the pass adds polygons and nodes).
+        add_stars(net);
+        const std::vector<std::uint32_t> offsets = net.star_offsets, star = net.star;
         std::array<std::uint32_t, 4> c{};
-        for (std::uint32_t id = 0; id < polygons; ++id)
-            for (int k = 0, n = polygon_corners(net, id, c); k < n; ++k)
-                ++offsets[c[std::size_t(k)] + 1];
-        for (std::size_t i = 0; i < nodes; ++i) offsets[i + 1] += offsets[i];
-        star.resize(offsets.back());
-        std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
-        for (std::uint32_t id = 0; id < polygons; ++id)
-            for (int k = 0, n = polygon_corners(net, id, c); k < n; ++k)
-                star[cursor[c[std::size_t(k)]]++] = id;
 
         std::vector<std::uint8_t> touched(nodes, 0);
         bool waiting = false;

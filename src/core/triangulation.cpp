@@ -33,16 +33,9 @@ Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
     mesh.indices.resize(net.quads.size() * 6 + net.triangles.size() * 3);
     std::uint32_t* out = mesh.indices.data();
     for (const auto& q : net.quads) {
-        const glm::vec3 a = positions[q[0]], b = positions[q[1]], c = positions[q[2]],
-                        d = positions[q[3]];
-        if (quad_splits_along_ac(a, b, c, d, rule, spacing)) {
-            const std::uint32_t t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
-            std::copy(t, t + 6, out);
-        } else {
-            const std::uint32_t t[6] = {q[0], q[1], q[3], q[1], q[2], q[3]};
-            std::copy(t, t + 6, out);
-        }
-        out += 6;
+        const bool along_ac = quad_splits_along_ac(positions[q[0]], positions[q[1]],
+                                                   positions[q[2]], positions[q[3]], rule, spacing);
+        for (const auto& t : quad_triangles(q, along_ac)) out = std::copy(t.begin(), t.end(), out);
     }
     for (const auto& t : net.triangles) out = std::copy(t.begin(), t.end(), out);
     return mesh;

@@ -4,6 +4,8 @@
 // the node positions change. The mesh's vertices are the net's nodes, in node order.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <span>
 
 #include <glm/glm.hpp>
@@ -20,6 +22,13 @@ enum class TriangulationRule { ShorterDiagonal, Delaunay };
 Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
                  TriangulationRule rule = TriangulationRule::ShorterDiagonal,
                  glm::vec3 spacing = glm::vec3(1.0f));
+
+// The two triangles of quad q (winding kept): along its first diagonal q0-q2, or along q1-q3.
+inline std::array<std::array<std::uint32_t, 3>, 2>
+quad_triangles(const std::array<std::uint32_t, 4>& q, bool along_ac) {
+    if (along_ac) return {{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}};
+    return {{{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
+}
 
 // True when the quad a b c d (index space) splits along a-c under `rule`.
 bool quad_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d,
