@@ -10,7 +10,7 @@
 
 #include <imgui.h>
 
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 #include "core/phantom.h"
 #include "path_completion.h"
 #include "render/panels.h"

@@ -11,7 +11,7 @@
 #include <functional>
 #include <sstream>
 
-#include "core/atomic_file.h"
+#include "io/atomic_file.h"
 
 namespace snert::app {
 

@@ -4,7 +4,7 @@
 // GL-free: view options are stored by name ("smooth", "iso") and parsed by the app.
 // Reading never fails: a missing file gives the defaults, and an unknown key or a bad value is
 // skipped (the rest of the file still applies), so an old or hand-edited file cannot stop the
-// app from starting. Writing is atomic (core/atomic_file.h).
+// app from starting. Writing is atomic (io/atomic_file.h).
 #pragma once
 
 #include <cstddef>

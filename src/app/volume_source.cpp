@@ -1,4 +1,4 @@
-// Loading the app's volumes: phantoms from core/phantom.h, files through core/load_volume.h
+// Loading the app's volumes: phantoms from core/phantom.h, files through io/load_volume.h
 // (ITK) where the build has it.
 #include "volume_source.h"
 
@@ -9,8 +9,9 @@
 
 #include "core/phantom.h"
 
-#if __has_include("core/load_volume.h")
-#include "core/load_volume.h"
+#if __has_include("io/load_volume.h")
+#include "core/volume_stats.h"
+#include "io/load_volume.h"
 #define SNERT_APP_HAVE_FILES 1
 #endif
 

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "commands.h"
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 #include "methods.h"
 
 namespace snert::cli {

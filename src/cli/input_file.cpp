@@ -11,7 +11,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "core/load_volume.h"
+#include "core/volume_stats.h"
+#include "io/load_volume.h"
 #include "input.h"
 
 namespace snert::cli {

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <ostream>
 
-#include "core/atomic_file.h"
+#include "io/atomic_file.h"
 
 namespace snert::cli {
 

@@ -7,7 +7,7 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
-#include "core/atomic_file.h"
+#include "io/atomic_file.h"
 
 namespace snert::render {
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "app/headless.h"
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 
 using namespace snert;
 using namespace snert::app;

@@ -13,7 +13,7 @@
 #include <tuple>
 #include <vector>
 
-#include "core/load_volume.h"
+#include "io/load_volume.h"
 #include "core/marching_cubes.h"
 #include "core/metrics.h"
 #include "core/phantom.h"

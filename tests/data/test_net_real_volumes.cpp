@@ -7,7 +7,8 @@
 #include <functional>
 #include <string>
 
-#include "core/load_volume.h"
+#include "core/volume_stats.h"
+#include "io/load_volume.h"
 #include "core/marching_cubes.h"
 #include "core/metrics.h"
 #include "core/pipeline.h"

@@ -21,8 +21,9 @@
 
 #include <unistd.h>
 
-#include "core/load_volume.h"
-#include "core/volume_headers.h"
+#include "core/volume_stats.h"
+#include "io/load_volume.h"
+#include "io/volume_headers.h"
 
 using namespace snert;
 

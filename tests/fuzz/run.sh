@@ -11,9 +11,12 @@ out="$root/build/fuzz"
 mkdir -p "$out/corpus" "$out/seeds"
 cxx=${FUZZ_CXX:-clang++}
 
-core=(volume_headers raw_volume volume_stats volume)
-sources=("$root/tests/fuzz/fuzz_volume_headers.cpp")
-for name in "${core[@]}"; do sources+=("$root/src/core/$name.cpp"); done
+# Every source of snert_io but the ITK loader, and the core sources they call.
+sources=("$root/tests/fuzz/fuzz_volume_headers.cpp" "$root/src/core/volume_stats.cpp"
+    "$root/src/core/volume.cpp")
+for file in "$root"/src/io/*.cpp; do
+    case "$file" in */load_volume.cpp | */mesh_io.cpp | */atomic_file.cpp) ;; *) sources+=("$file") ;; esac
+done
 echo "fuzz: building $out/fuzz_volume_headers with $cxx"
 "$cxx" -std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
     -I"$root/src" "${sources[@]}" -lz -o "$out/fuzz_volume_headers"

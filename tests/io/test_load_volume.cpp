@@ -17,10 +17,11 @@
 
 #include <zlib.h>
 
-#include "core/load_volume.h"
+#include "core/volume_stats.h"
+#include "io/load_volume.h"
 #include "core/marching_cubes.h"
 #include "core/mesh.h"
-#include "core/volume_headers.h"
+#include "io/volume_headers.h"
 
 namespace fs = std::filesystem;
 using namespace snert;

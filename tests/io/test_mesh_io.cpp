@@ -15,8 +15,8 @@
 
 #include <unistd.h>
 
-#include "core/atomic_file.h"
-#include "core/mesh_io.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
 #include "core/metrics.h"
 
 namespace snert {

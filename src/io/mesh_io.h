@@ -16,7 +16,7 @@
 
 #include <string>
 
-#include "mesh.h"
+#include "core/mesh.h"
 
 namespace snert {
 
