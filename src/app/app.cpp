@@ -463,7 +463,7 @@ std::vector<std::string> App::export_meshes(const std::string& base, const std::
         written.push_back(path);
     }
     if (results_.frame) {
-        const std::string path = base + "-" + results_.frame->method + "-" +
+        const std::string path = base + "-" + std::string(name_of(results_.frame->method)) + "-" +
                                  std::to_string(results_.frame->iteration) + "." + format;
         write_mesh(results_.frame->mesh, path);
         written.push_back(path);

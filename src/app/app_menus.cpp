@@ -116,7 +116,7 @@ std::string App::status_text() const {
     std::snprintf(iso, sizeof iso, "  \xC2\xB7  iso %.4g", settings_.parameters.iso);
     text += iso;
     text +=
-        "  \xC2\xB7  " + render::method_display_name(method_name(settings_.parameters.relax.mode));
+        "  \xC2\xB7  " + std::string(label_of(method_of(settings_.parameters.relax.mode)));
     if (!results_.error.empty()) {
         text += "  \xC2\xB7  failed: " + results_.error;
     } else if (results_.finished) {
@@ -263,7 +263,7 @@ void App::draw_dialogs() {
         const std::string format = kExportFormats[export_format_];
         if (results_.mc) ImGui::BulletText("%s-mc.%s", export_base_.c_str(), format.c_str());
         if (results_.frame)
-            ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(), results_.frame->method.c_str(),
+            ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(), std::string(name_of(results_.frame->method)).c_str(),
                               results_.frame->iteration, format.c_str());
         if (ImGui::Button("Export")) {
             try {

@@ -378,7 +378,7 @@ void App::draw_bottom_panel(float height) {
 
 void App::draw_quality_tab() {
     std::vector<render::PanelMethod> methods;
-    if (results_.mc) methods.push_back({"mc", "Marching Cubes", &results_.mc->metrics});
+    if (results_.mc) methods.push_back({Method::MarchingCubes, "Marching Cubes", &results_.mc->metrics});
     // The frame's mesh is measured alone; where the relaxation stands at that iteration comes
     // from the iteration history.
     MethodMetrics frame_metrics;
@@ -391,7 +391,7 @@ void App::draw_quality_tab() {
         frame_metrics.converged =
             results_.finished && results_.finished->converged && k == results_.finished->iterations;
         methods.push_back({results_.frame->method,
-                           render::method_display_name(results_.frame->method) + ", iteration " +
+                           std::string(label_of(results_.frame->method)) + ", iteration " +
                                std::to_string(k),
                            &frame_metrics});
     }
@@ -441,7 +441,7 @@ void App::draw_convergence_tab() {
         accuracy.push_back(float(s.accuracy_vertices));
     }
     const MethodMetrics* mc = results_.mc ? &results_.mc->metrics : nullptr;
-    const ImU32 color = render::method_color_u32(method_name(settings_.parameters.relax.mode));
+    const ImU32 color = render::method_color_u32(method_of(settings_.parameters.relax.mode));
     const bool has_accuracy = it.front().accuracy_vertices >= 0;
     std::vector<ConvergencePlot> plots = {
         {"Largest move (voxels)",

@@ -20,7 +20,7 @@ constexpr ImU32 kHint = IM_COL32(80, 86, 96, 255);
 
 // The title a view shows above it.
 std::string net_title(const DisplayMesh& frame, const JobResults& results) {
-    std::string title = render::method_display_name(frame.method) + "  \xC2\xB7  iteration " +
+    std::string title = std::string(label_of(frame.method)) + "  \xC2\xB7  iteration " +
                         std::to_string(frame.iteration);
     if (results.iteration_count() > 0)
         title += " of " + std::to_string(results.iteration_count() - 1);
@@ -148,7 +148,7 @@ void App::draw_views(float width, float height) {
         } else {
             const std::string name =
                 i == 0 ? "Marching Cubes"
-                       : render::method_display_name(method_name(settings_.parameters.relax.mode));
+                       : std::string(label_of(method_of(settings_.parameters.relax.mode)));
             centred_text(draw, fonts_.bold, title_min, title_max, IM_COL32(28, 30, 34, 255), name);
         }
         draw->AddImage(ImTextureID(std::intptr_t(views_->texture(i))), view_min, view_max,

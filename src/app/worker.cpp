@@ -237,7 +237,7 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
             MethodResult mc = run_marching_cubes(volume, job.options, job.reference,
                                                  stage_progress(Stage::MarchingCubes, stop));
             auto display = std::make_shared<DisplayMesh>();
-            display->method = mc.name;
+            display->method = mc.method;
             display->quality = triangle_quality(mc.mesh);
             display->mesh = std::move(mc.mesh);
             display->metrics = mc.metrics;
@@ -386,7 +386,7 @@ std::shared_ptr<const DisplayMesh> Worker::make_frame(const Job& job, int iterat
     const Mesh index_mesh =
         triangulate(c.net, positions, c.options.triangulation, c.volume->spacing);
     auto frame = std::make_shared<DisplayMesh>();
-    frame->method = method_name(job.options.relax.mode);
+    frame->method = method_of(job.options.relax.mode);
     frame->iteration = iteration;
     frame->metrics = measure(index_mesh, *c.volume, job.reference);
     frame->mesh = mesh_to_world(index_mesh, *c.volume);

@@ -66,7 +66,7 @@ struct JobProgress {
 
 // A mesh ready to draw, with its numbers. World units; quality per triangle for colouring.
 struct DisplayMesh {
-    std::string method; // "mc", "sna", "gradient", "snert"
+    Method method = Method::MarchingCubes;
     int iteration = -1; // relaxation iteration; -1 for Marching Cubes
     Mesh mesh;
     std::vector<float> quality; // smallest / largest angle per triangle

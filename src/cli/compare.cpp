@@ -41,10 +41,10 @@ int run_compare(const std::vector<std::string>& argv) {
     const PipelineOptions pipeline = pipeline_options(args, input);
     std::vector<MethodResult> results;
     nlohmann::json json;
-    for (const std::string& method : requested_methods(args)) {
+    for (const Method method : requested_methods(args)) {
         results.push_back(run_method(input, pipeline, method));
         require_surface(results.back(), input);
-        json[method] = method_json(results.back(), input);
+        json[std::string(name_of(method))] = method_json(results.back(), input);
     }
     print_table(std::cout, input.name + " (iso " + std::to_string(input.iso) + ")", results, input);
     if (auto path = args.value("json")) write_json(*path, json);

@@ -22,13 +22,14 @@ int run_export(const std::vector<std::string>& argv) {
     if (!out) throw UsageError("missing --out FILE.{stl,obj,ply,off,vtk}");
     const MeshFormat format = mesh_format_from_path(*out); // before the work: fail early
     if (args.has("mode")) throw UsageError("use --method to choose the mesh to export");
-    const std::string method = args.choice("method", "snert", {"mc", "sna", "gradient", "snert"});
+    const Method method = *parse_name<Method>(
+        args.choice("method", "snert", {"mc", "sna", "gradient", "snert"}));
     const Input input = load_input(args);
     const MethodResult result = run_method(input, pipeline_options(args, input), method);
     require_surface(result, input);
     write_mesh(result.mesh, *out, format);
     std::cerr << "wrote " << *out << ": " << result.mesh.vertex_count() << " vertices, "
-              << result.mesh.triangle_count() << " triangles (" << method << ")\n";
+              << result.mesh.triangle_count() << " triangles (" << name_of(method) << ")\n";
     return 0;
 }
 

@@ -8,29 +8,29 @@
 
 namespace snert::cli {
 
-std::vector<std::string> requested_methods(const Args& args) {
-    if (auto mode = args.value("mode")) return {"mc", *mode};
-    return {"mc", "sna", "snert"};
+std::vector<Method> requested_methods(const Args& args) {
+    if (args.has("mode"))
+        return {Method::MarchingCubes,
+                method_of(*parse_name<RelaxMode>(args.choice("mode", "snert", {"sna", "gradient", "snert"})))};
+    return {Method::MarchingCubes, Method::Sna, Method::Snert};
 }
 
-MethodResult run_method(const Input& input, const PipelineOptions& base, const std::string& method,
+MethodResult run_method(const Input& input, const PipelineOptions& base, Method method,
                         const Progress& progress) {
     PipelineOptions options = base;
     options.relax.iso = input.iso;
-    options.relax.mode = method == "sna"        ? RelaxMode::Averaging
-                         : method == "gradient" ? RelaxMode::Gradient
-                                                : RelaxMode::Snert;
+    if (const auto mode = relax_mode_of(method)) options.relax.mode = *mode;
     if (input.labels) {
         // The label's mask decides the topology; MC runs on it at 0.5 as 3D Slicer does.
         const Volume mask = mask_volume(*input.labels, input.volume);
-        if (method == "mc") {
+        if (method == Method::MarchingCubes) {
             options.iso = 0.5f;
             options.inside = InsideIs::Above;
             return run_marching_cubes(mask, options, input.reference, progress);
         }
         return run_surface_net(input.volume, *input.labels, options, input.reference, progress);
     }
-    if (method == "mc") return run_marching_cubes(input.volume, options, input.reference, progress);
+    if (method == Method::MarchingCubes) return run_marching_cubes(input.volume, options, input.reference, progress);
     const Segmentation segmentation = segment_threshold(input.volume, options.iso, options.inside);
     return run_surface_net(input.volume, segmentation, options, input.reference, progress);
 }
@@ -51,7 +51,7 @@ nlohmann::json number_or_null(std::optional<double> v) {
 }
 
 bool is_net(const MethodResult& r) {
-    return r.name != "mc";
+    return r.method != Method::MarchingCubes;
 }
 
 double sliver_share(const MethodMetrics& m) {
@@ -160,7 +160,7 @@ void print_quality_table(std::ostream& out, const std::vector<MethodResult>& res
         }
         std::snprintf(line, sizeof line,
                       "  %-8s %9zu %7.3f %7.3f %7.3f %7.3f %9.2e %9s %9s %9s %8s %8.1f\n",
-                      r.name.c_str(), m.triangles, m.quality.mean, m.quality.min,
+                      std::string(name_of(r.method)).c_str(), m.triangles, m.quality.mean, m.quality.min,
                       m.quality.quality60_mean, m.quality.radius_ratio_mean, m.smoothness,
                       acc(&Accuracy::vertices_mean).c_str(), acc(&Accuracy::faces_mean).c_str(),
                       acc(&Accuracy::surface_mean).c_str(), volume_error.c_str(), m.ms);
@@ -187,7 +187,7 @@ void print_fe_table(std::ostream& out, const std::vector<MethodResult>& results)
         }
         std::snprintf(line, sizeof line,
                       "  %-8s %6s %8s %7zu %7zu %7zu %7zu %8.2f %7.2f %6zu %8s %6s %9s %9s\n",
-                      r.name.c_str(), yes_no(m.topology.watertight).c_str(),
+                      std::string(name_of(r.method)).c_str(), yes_no(m.topology.watertight).c_str(),
                       yes_no(m.topology.manifold).c_str(), m.topology.nonmanifold_edges,
                       m.topology.nonmanifold_vertices, m.boundary_edges_off_border,
                       m.self_intersections, 100.0 * sliver_share(m), m.quality.min_angle_min,

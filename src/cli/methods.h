@@ -15,13 +15,13 @@ namespace snert::cli {
 
 // The methods named on the command line: "mc" plus the nets. --mode X runs MC and X only;
 // without it, MC, SNA and SNERT (the paper's Table 1).
-std::vector<std::string> requested_methods(const Args& args);
+std::vector<Method> requested_methods(const Args& args);
 
 // Runs one method ("mc", "sna", "gradient" or "snert") on the input. A label map (input.labels)
 // gives the segmentation: MC then runs on the mask at 0.5 and the net's gradient term uses the
 // grey values at input.iso.
 MethodResult run_method(const Input& input, const PipelineOptions& options,
-                        const std::string& method, const Progress& progress = {});
+                        Method method, const Progress& progress = {});
 
 // Throws std::runtime_error naming the input when the method produced no triangle: the volume is
 // all inside or all outside at this iso, which is bad input, not a result to report.

@@ -58,21 +58,21 @@ std::string format_number(double value) {
 }
 
 // The net's title: the method, and the iteration when one was asked for.
-std::string net_title(const std::string& method, const Args& args, int iteration) {
-    std::string name = render::method_display_name(method);
+std::string net_title(Method method, const Args& args, int iteration) {
+    std::string name(label_of(method));
     if (!args.has("iteration")) return name;
     if (iteration == 0) return name + ", initial net";
     return name + ", iteration " + std::to_string(iteration);
 }
 
-std::string caption(const Input& input, const PipelineOptions& options, const std::string& net,
+std::string caption(const Input& input, const PipelineOptions& options, Method net,
                     const Args& args) {
     const glm::ivec3 d = input.volume.dims;
     std::string text = input.name + "  \xC2\xB7  " + std::to_string(d.x) + "\xC3\x97" +
                        std::to_string(d.y) + "\xC3\x97" + std::to_string(d.z) + " samples";
     text += "  \xC2\xB7  iso " + format_number(input.iso);
     if (input.inside == InsideIs::Below) text += " (inside below)";
-    text += "  \xC2\xB7  " + render::method_display_name(net) + " relaxation, ";
+    text += "  \xC2\xB7  " + std::string(label_of(net)) + " relaxation, ";
     if (args.has("iteration"))
         text += std::to_string(options.relax.max_iterations) + " iterations";
     else
@@ -147,17 +147,18 @@ int run_render(const std::vector<std::string>& argv) {
         pipeline.relax.max_iterations = iteration;
         pipeline.relax.epsilon = 0.0f; // exactly K iterations, however small the moves
     }
-    const std::string net = method_name(pipeline.relax.mode);
+    const Method net = method_of(pipeline.relax.mode);
 
     std::vector<MethodResult> results;
-    if (layout != "net") results.push_back(run_method(input, pipeline, "mc"));
+    if (layout != "net") results.push_back(run_method(input, pipeline, Method::MarchingCubes));
     if (layout != "mc") results.push_back(run_method(input, pipeline, net));
     for (const MethodResult& r : results) require_surface(r, input);
 
     std::vector<render::FigureMethod> methods;
     methods.reserve(results.size());
     for (const MethodResult& r : results)
-        methods.push_back({r.name, r.name == "mc" ? "" : net_title(r.name, args, iteration),
+        methods.push_back({r.method,
+                           r.method == Method::MarchingCubes ? "" : net_title(r.method, args, iteration),
                            &r.mesh, &r.metrics});
     if (captioned) figure.caption = caption(input, pipeline, net, args);
     const render::Image image = render::render_figure(methods, figure);

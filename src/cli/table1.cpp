@@ -35,9 +35,9 @@ int run_table1(const std::vector<std::string>& argv) {
         std::vector<MethodResult> results;
         std::string key = name;
         if (key == "two-spheres") key = "two_spheres";
-        for (const char* method : {"mc", "sna", "snert"}) {
+        for (const Method method : {Method::MarchingCubes, Method::Sna, Method::Snert}) {
             results.push_back(run_method(input, pipeline, method));
-            json[key][method] = method_json(results.back(), input);
+            json[key][std::string(name_of(method))] = method_json(results.back(), input);
         }
         print_table(std::cout, input.name + " " + std::to_string(size) + "^3", results, input);
         std::cout << "\n";

@@ -17,18 +17,6 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 } // namespace
 
-const char* method_name(RelaxMode mode) {
-    switch (mode) {
-    case RelaxMode::Averaging:
-        return "sna";
-    case RelaxMode::Gradient:
-        return "gradient";
-    case RelaxMode::Snert:
-        return "snert";
-    }
-    return "snert";
-}
-
 DistanceFunction first_order_distance(const Volume& volume, float iso) {
     // |I(p) - iso| / |grad I(p)|: the distance to the iso-surface if the field were linear.
     return [&volume, iso](glm::vec3 p) {
@@ -66,7 +54,7 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
     Mesh mesh = marching_cubes(volume, {options.iso, options.inside}, progress);
     const double ms = elapsed_ms(start);
     MethodResult result;
-    result.name = "mc";
+    result.method = Method::MarchingCubes;
     result.metrics = measure(mesh, volume, reference);
     result.metrics.ms = ms;
     result.mesh = mesh_to_world(mesh, volume);
@@ -83,7 +71,7 @@ MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentatio
     Mesh mesh = triangulate(net, relaxed.positions, options.relax.triangulation, grey.spacing);
     const double ms = elapsed_ms(start);
     MethodResult result;
-    result.name = method_name(options.relax.mode);
+    result.method = method_of(options.relax.mode);
     result.metrics = measure(mesh, grey, reference);
     result.metrics.ms = ms;
     result.metrics.iterations = int(relaxed.max_moves.size());

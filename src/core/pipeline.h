@@ -9,11 +9,11 @@
 #pragma once
 
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "marching_cubes.h"
 #include "mesh.h"
+#include "names.h"
 #include "metrics.h"
 #include "progress.h"
 #include "relaxation.h"
@@ -52,7 +52,7 @@ struct MethodMetrics {
 };
 
 struct MethodResult {
-    std::string name; // "mc", "sna", "gradient", "snert"
+    Method method = Method::MarchingCubes;
     Mesh mesh;        // world units
     MethodMetrics metrics;
 };
@@ -75,7 +75,5 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
 MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress = {});
-
-const char* method_name(RelaxMode mode); // "sna", "gradient", "snert"
 
 } // namespace snert

@@ -38,10 +38,10 @@ std::vector<std::uint8_t> viridis_rgba8(int n) {
     return rgba;
 }
 
-glm::vec3 method_color(std::string_view method) {
-    if (method == "mc") return {0.90f, 0.62f, 0.00f};       // orange
-    if (method == "gradient") return {0.00f, 0.62f, 0.45f}; // bluish green
-    return {0.00f, 0.45f, 0.70f};                           // blue: sna, snert
+glm::vec3 method_color(Method method) {
+    if (method == Method::MarchingCubes) return {0.90f, 0.62f, 0.00f}; // orange
+    if (method == Method::Gradient) return {0.00f, 0.62f, 0.45f};      // bluish green
+    return {0.00f, 0.45f, 0.70f};                                      // blue: sna, snert
 }
 
 } // namespace snert::render

@@ -10,6 +10,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/names.h"
+
 namespace snert::render {
 
 // Viridis-like map (dark blue-violet at 0, green at 0.6, yellow at 1): perceptually ordered,
@@ -29,6 +31,6 @@ inline constexpr glm::vec3 kSurfaceColor{0.80f, 0.77f, 0.71f};
 
 // Series colours (Okabe-Ito palette, safe for colour-blind readers): Marching Cubes orange,
 // the relaxed net blue, a third method green.
-glm::vec3 method_color(std::string_view method);
+glm::vec3 method_color(Method method);
 
 } // namespace snert::render

@@ -174,7 +174,7 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
     }
 
     std::vector<PanelMethod> panels;
-    for (const FigureMethod& m : methods) panels.push_back({m.name, m.title, m.metrics});
+    for (const FigureMethod& m : methods) panels.push_back({m.method, m.title, m.metrics});
     ImGuiOffscreen gui(rects.font_px);
     target.bind();
     gui.draw(options.width, options.height,

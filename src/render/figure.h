@@ -72,7 +72,7 @@ FigureRects layout_figure(int width, int height, int view_count, FigureLayout la
 
 // One mesh of the figure.
 struct FigureMethod {
-    std::string name;                       // "mc", "snert", ...: colour and default title
+    Method method = Method::MarchingCubes;  // colour and default title
     std::string title;                      // shown title; empty: the method's display name
     const Mesh* mesh = nullptr;             // world units; not owned
     const MethodMetrics* metrics = nullptr; // not owned

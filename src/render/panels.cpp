@@ -49,16 +49,8 @@ double nice_step(double top, int count) {
 
 } // namespace
 
-std::string method_display_name(std::string_view name) {
-    if (name == "mc") return "Marching Cubes";
-    if (name == "sna") return "SNA";
-    if (name == "gradient") return "Gradient";
-    if (name == "snert") return "SNERT";
-    return std::string(name);
-}
-
-std::string method_short_name(std::string_view name) {
-    return name == "mc" ? std::string("MC") : method_display_name(name);
+std::string method_short_name(Method method) {
+    return method == Method::MarchingCubes ? std::string("MC") : std::string(label_of(method));
 }
 
 std::string format_count(std::size_t count) {
@@ -67,8 +59,8 @@ std::string format_count(std::size_t count) {
     return digits;
 }
 
-ImU32 method_color_u32(std::string_view name, float alpha) {
-    return to_u32(method_color(name), alpha);
+ImU32 method_color_u32(Method method, float alpha) {
+    return to_u32(method_color(method), alpha);
 }
 
 float figure_cell_padding(float font_px) {
@@ -98,7 +90,7 @@ void apply_figure_style(ImGuiStyle& style, float font_px) {
 void draw_view_title(ImDrawList* draw, ImVec2 min, ImVec2 max, const PanelMethod& method,
                      const FigureFonts& fonts) {
     const std::string title =
-        method.title.empty() ? method_display_name(method.name) : method.title;
+        method.title.empty() ? std::string(label_of(method.method)) : method.title;
     std::string stats;
     if (method.metrics)
         stats = format_count(method.metrics->triangles) + " triangles  \xC2\xB7  mean quality " +
@@ -116,7 +108,7 @@ void draw_view_title(ImDrawList* draw, ImVec2 min, ImVec2 max, const PanelMethod
     const float x = std::round(centre_x - 0.5f * title_width);
     const float swatch_y = std::round(y + 0.5f * (title_size.y - swatch));
     draw->AddRectFilled(ImVec2(x, swatch_y), ImVec2(x + swatch, swatch_y + swatch),
-                        method_color_u32(method.name), 0.2f * swatch);
+                        method_color_u32(method.method), 0.2f * swatch);
     text(draw, fonts.bold, ImVec2(x + swatch + gap, y), kText, title);
     y += title_size.y + line_gap;
     if (!stats.empty())
@@ -203,7 +195,7 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
     std::vector<std::string> labels;
     float legend_width = 0.0f;
     for (const PanelMethod& m : methods) {
-        labels.push_back(method_short_name(m.name) +
+        labels.push_back(method_short_name(m.method) +
                          (m.metrics ? format(", mean %.3f", m.metrics->quality.mean) : ""));
         legend_width += swatch + 0.35f * f + text_size(fonts.regular, labels.back()).x + 1.0f * f;
     }
@@ -221,7 +213,7 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
     for (std::size_t i = 0; i < methods.size(); ++i) {
         const float y = std::round(legend_y + 0.5f * (fonts.regular->FontSize - swatch));
         draw->AddRectFilled(ImVec2(legend_x, y), ImVec2(legend_x + swatch, y + swatch),
-                            method_color_u32(methods[i].name), 0.15f * swatch);
+                            method_color_u32(methods[i].method), 0.15f * swatch);
         text(draw, fonts.regular, ImVec2(legend_x + swatch + 0.35f * f, legend_y), kText,
              labels[i]);
         legend_x += swatch + 0.35f * f + text_size(fonts.regular, labels[i]).x + 1.0f * f;
@@ -247,7 +239,7 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
     const float inner = bin_width * 0.84f;
     const float bar_width = inner / float(std::max<std::size_t>(methods.size(), 1));
     for (std::size_t m = 0; m < methods.size(); ++m) {
-        const ImU32 color = method_color_u32(methods[m].name);
+        const ImU32 color = method_color_u32(methods[m].method);
         for (int b = 0; b < kQualityBins; ++b) {
             const double v = shares[m][std::size_t(b)];
             if (v <= 0.0) continue;
@@ -259,7 +251,7 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
     for (const PanelMethod& m : methods) {
         if (!m.metrics || m.metrics->triangles == 0) continue;
         const float x = std::round(x_of(m.metrics->quality.mean)) + 0.5f;
-        const glm::vec3 c = method_color(m.name) * 0.7f;
+        const glm::vec3 c = method_color(m.method) * 0.7f;
         draw->AddLine(ImVec2(x, plot_top), ImVec2(x, plot_bottom), to_u32(c),
                       std::max(1.5f, 0.12f * f));
     }
@@ -392,7 +384,7 @@ void metrics_table(const char* id, std::span<const PanelMethod> methods, int col
         ImGui::TableSetupColumn("measure", ImGuiTableColumnFlags_WidthStretch,
                                 groups > 1 ? 2.0f : 1.55f);
         for (std::size_t m = 0; m < methods.size(); ++m)
-            ImGui::TableSetupColumn(methods[m].name.c_str(), ImGuiTableColumnFlags_WidthStretch,
+            ImGui::TableSetupColumn(std::string(name_of(methods[m].method)).c_str(), ImGuiTableColumnFlags_WidthStretch,
                                     1.0f);
     }
     // Header: the methods' names in bold with their colour swatch; in the current face when
@@ -402,7 +394,7 @@ void metrics_table(const char* id, std::span<const PanelMethod> methods, int col
     for (int g = 0; g < groups; ++g) {
         for (std::size_t m = 0; m < methods.size(); ++m) {
             ImGui::TableSetColumnIndex(g * per_group + 1 + int(m));
-            const std::string name = method_short_name(methods[m].name);
+            const std::string name = method_short_name(methods[m].method);
             const float swatch = std::round(0.65f * fonts.size);
             const float text_width =
                 ImGui::CalcTextSize(name.c_str()).x + swatch + 0.3f * fonts.size;
@@ -411,7 +403,7 @@ void metrics_table(const char* id, std::span<const PanelMethod> methods, int col
             const ImVec2 p = ImGui::GetCursorScreenPos();
             const float y = p.y + 0.5f * (fonts.size - swatch);
             ImGui::GetWindowDrawList()->AddRectFilled(
-                ImVec2(p.x, y), ImVec2(p.x + swatch, y + swatch), method_color_u32(methods[m].name),
+                ImVec2(p.x, y), ImVec2(p.x + swatch, y + swatch), method_color_u32(methods[m].method),
                 0.15f * swatch);
             ImGui::SetCursorPosX(ImGui::GetCursorPosX() + swatch + 0.3f * fonts.size);
             ImGui::TextUnformatted(name.c_str());
@@ -431,7 +423,7 @@ void metrics_table(const char* id, std::span<const PanelMethod> methods, int col
             ImGui::PopStyleColor();
             for (std::size_t m = 0; m < methods.size(); ++m) {
                 ImGui::TableSetColumnIndex(g * per_group + 1 + int(m));
-                const bool net = methods[m].name != "mc";
+                const bool net = methods[m].method != Method::MarchingCubes;
                 right_aligned(methods[m].metrics ? list[k].value(*methods[m].metrics, net)
                                                  : std::string("n/a"));
             }

@@ -21,20 +21,18 @@ namespace snert::render {
 
 // One method as the panels show it.
 struct PanelMethod {
-    std::string name;                       // "mc", "sna", "gradient", "snert": picks the colour
+    Method method = Method::MarchingCubes;  // picks the colour and the default title
     std::string title;                      // shown title, e.g. "SNERT, 20 iterations"
     const MethodMetrics* metrics = nullptr; // not owned; must outlive the call
 };
 
-// "Marching Cubes", "SNA", "Gradient", "SNERT"; other names unchanged.
-std::string method_display_name(std::string_view name);
-// "MC", "SNA", "Gradient", "SNERT": for legends and table headers.
-std::string method_short_name(std::string_view name);
+// "MC", "SNA", "Gradient", "SNERT": for legends and table headers (titles use label_of).
+std::string method_short_name(Method method);
 // 1234567 -> "1,234,567".
 std::string format_count(std::size_t count);
 
 // The colour of a method's series (colormap.h's method_color) as an ImGui colour.
-ImU32 method_color_u32(std::string_view name, float alpha = 1.0f);
+ImU32 method_color_u32(Method method, float alpha = 1.0f);
 
 // Light, print-friendly ImGui colours and spacing scaled to the font size.
 void apply_figure_style(ImGuiStyle& style, float font_px);

@@ -7,6 +7,8 @@
 
 #include "app/headless.h"
 #include "io/mesh_io.h"
+#include "support/real_data.h"
+#include "support/temp_folder.h"
 
 using namespace snert;
 using namespace snert::app;
@@ -42,13 +44,6 @@ void click_widget(HeadlessApp& h, const std::string& id) {
     const auto rect = h.app().widget_rect(id);
     ASSERT_TRUE(rect) << "no widget " << id;
     h.click(rect->centre_x(), rect->centre_y());
-}
-
-std::string temp_folder(const std::string& name) {
-    const fs::path folder = fs::temp_directory_path() / ("snert_app_test_" + name);
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder.string();
 }
 
 } // namespace
@@ -166,7 +161,7 @@ TEST(AppUi, ChangingAParameterRestartsTheComputation) {
     h->frame();
     EXPECT_EQ(app.results().generation, generation + 1);
     ASSERT_TRUE(h->run_until(settled));
-    EXPECT_EQ(app.results().frame->method, "sna");
+    EXPECT_EQ(app.results().frame->method, Method::Sna);
     EXPECT_EQ(app.results().mc, mc); // Marching Cubes did not depend on the mode
 
     // Dragging the iso slider: many changes, one per frame; the last one wins.
@@ -229,7 +224,8 @@ TEST(AppUi, ScreenshotAndExportWriteFiles) {
     auto h = make_app(3);
     ASSERT_TRUE(h->run_until(settled));
     App& app = h->app();
-    const std::string folder = temp_folder("files");
+    const test::TempFolder temp("snert-app-files");
+    const std::string folder = temp.path().string();
     const std::string png = folder + "/views.png";
     app.request_screenshot(png);
     h->frame();
@@ -246,7 +242,6 @@ TEST(AppUi, ScreenshotAndExportWriteFiles) {
     EXPECT_EQ(read_mesh(written[0]).triangle_count(), app.results().mc->mesh.triangle_count());
     EXPECT_EQ(read_mesh(written[1]).triangle_count(), app.results().frame->mesh.triangle_count());
     EXPECT_EQ(written[1], folder + "/sphere-snert-3.ply");
-    fs::remove_all(folder);
 }
 
 TEST(AppUi, DroppedFilesOpen) {
@@ -258,7 +253,7 @@ TEST(AppUi, DroppedFilesOpen) {
     EXPECT_NE(app.notices().back().find("/no/such/volume.nrrd"), std::string::npos);
     EXPECT_EQ(app.settings().parameters.volume.input, "phantom:sphere");
 
-    const std::string file = std::string(SNERT_DATA_DIR) + "/HeadMRVolume.mhd";
+    const std::string file = test::data_file("HeadMRVolume.mhd");
     if (!fs::exists(file) || !can_load_files()) GTEST_SKIP() << "no " << file << " or no ITK";
     app.on_drop({file});
     h->frame();
@@ -270,7 +265,7 @@ TEST(AppUi, DroppedFilesOpen) {
 }
 
 TEST(AppUi, OpenFieldCompletesWithTabAndOpensWithEnter) {
-    const std::string folder = std::string(SNERT_DATA_DIR);
+    const std::string folder = test::data_dir();
     if (!fs::exists(folder + "/HeadMRVolume.mhd") || !can_load_files())
         GTEST_SKIP() << "no " << folder << "/HeadMRVolume.mhd or no ITK";
     auto h = make_app(2);
@@ -289,7 +284,8 @@ TEST(AppUi, OpenFieldCompletesWithTabAndOpensWithEnter) {
 }
 
 TEST(AppUi, SettingsSurviveARestart) {
-    const std::string folder = temp_folder("settings");
+    const test::TempFolder temp("snert-app-settings");
+    const std::string folder = temp.path().string();
     const std::string path = folder + "/snert/settings.ini";
     {
         HeadlessOptions options;
@@ -322,5 +318,4 @@ TEST(AppUi, SettingsSurviveARestart) {
     EXPECT_FALSE(s.layout.show_bottom_panel);
     ASSERT_EQ(s.recent_files.size(), 1u);
     EXPECT_EQ(s.recent_files[0], "/data/a.nrrd");
-    fs::remove_all(folder);
 }

@@ -75,7 +75,7 @@ void expect_matches_pipeline(const JobResults& r, const JobRequest& job) {
     EXPECT_TRUE(same_mesh(r.frame->mesh, e.net.mesh));
     EXPECT_EQ(r.frame->metrics.quality.mean, e.net.metrics.quality.mean);
     EXPECT_EQ(r.frame->metrics.smoothness, e.net.metrics.smoothness);
-    EXPECT_EQ(r.frame->method, e.net.name);
+    EXPECT_EQ(r.frame->method, e.net.method);
     ASSERT_TRUE(r.finished);
     EXPECT_EQ(r.frame->iteration, r.finished->iterations);
 }
@@ -270,7 +270,7 @@ TEST(Worker, ReusesVolumeAndMarchingCubes) {
     ASSERT_TRUE(pump_until(worker, r, finished));
     EXPECT_EQ(r.source, source);
     EXPECT_EQ(r.mc, mc);
-    EXPECT_EQ(r.frame->method, "sna");
+    EXPECT_EQ(r.frame->method, Method::Sna);
     job.iso = 0.5f;
     r.start(worker.request(job));
     ASSERT_TRUE(pump_until(worker, r, finished));

@@ -9,6 +9,7 @@
 #include "gl_test.h"
 #include "render/figure.h"
 #include "render/panels.h"
+#include "support/test_meshes.h"
 
 using namespace snert;
 using namespace snert::render;
@@ -20,16 +21,6 @@ bool inside(const Rect& r, float width, float height) {
 }
 bool overlap(const Rect& a, const Rect& b) {
     return a.x < b.right() && b.x < a.right() && a.y < b.bottom() && b.y < a.bottom();
-}
-
-// An octahedron around `centre` (8 triangles, outward).
-Mesh octahedron(glm::vec3 centre, float r) {
-    Mesh m;
-    m.positions = {centre + glm::vec3(r, 0, 0), centre + glm::vec3(-r, 0, 0),
-                   centre + glm::vec3(0, r, 0), centre + glm::vec3(0, -r, 0),
-                   centre + glm::vec3(0, 0, r), centre + glm::vec3(0, 0, -r)};
-    m.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-    return m;
 }
 
 MethodMetrics metrics_of(std::size_t triangles, double mean) {
@@ -107,10 +98,10 @@ TEST(FigureLayout, ViewportsCountRowsFromTheBottom) {
 }
 
 TEST(Panels, NamesAndCounts) {
-    EXPECT_EQ(method_display_name("mc"), "Marching Cubes");
-    EXPECT_EQ(method_display_name("snert"), "SNERT");
-    EXPECT_EQ(method_short_name("mc"), "MC");
-    EXPECT_EQ(method_display_name("other"), "other");
+    EXPECT_EQ(label_of(Method::MarchingCubes), "Marching Cubes");
+    EXPECT_EQ(label_of(Method::Snert), "SNERT");
+    EXPECT_EQ(method_short_name(Method::MarchingCubes), "MC");
+    EXPECT_EQ(method_short_name(Method::Gradient), "Gradient");
     EXPECT_EQ(format_count(0), "0");
     EXPECT_EQ(format_count(999), "999");
     EXPECT_EQ(format_count(1000), "1,000");
@@ -120,9 +111,9 @@ TEST(Panels, NamesAndCounts) {
 class FigureTest : public GlTest {};
 
 TEST_F(FigureTest, RendersViewsTitlesAndPanels) {
-    const Mesh left = octahedron({0, 0, 0}, 10.0f), right = octahedron({0, 0, 0}, 10.0f);
+    const Mesh left = test::octahedron({0, 0, 0}, 10.0f), right = test::octahedron({0, 0, 0}, 10.0f);
     const MethodMetrics ml = metrics_of(8, 0.5), mr = metrics_of(8, 0.9);
-    const FigureMethod methods[] = {{"mc", "", &left, &ml}, {"snert", "", &right, &mr}};
+    const FigureMethod methods[] = {{Method::MarchingCubes, "", &left, &ml}, {Method::Snert, "", &right, &mr}};
     FigureOptions options;
     options.width = 400;
     options.height = 320;
@@ -163,14 +154,14 @@ TEST_F(FigureTest, RendersViewsTitlesAndPanels) {
 }
 
 TEST_F(FigureTest, RejectsMissingMeshesAndBadZoom) {
-    const Mesh mesh = octahedron({0, 0, 0}, 1.0f);
+    const Mesh mesh = test::octahedron({0, 0, 0}, 1.0f);
     FigureOptions options;
     options.width = 200;
     options.height = 160;
     EXPECT_THROW(render_figure({}, options), std::invalid_argument);
-    const FigureMethod no_mesh[] = {{"mc", "", nullptr, nullptr}};
+    const FigureMethod no_mesh[] = {{Method::MarchingCubes, "", nullptr, nullptr}};
     EXPECT_THROW(render_figure(no_mesh, options), std::invalid_argument);
-    const FigureMethod one[] = {{"mc", "", &mesh, nullptr}};
+    const FigureMethod one[] = {{Method::MarchingCubes, "", &mesh, nullptr}};
     options.zoom = 0.0f;
     EXPECT_THROW(render_figure(one, options), std::invalid_argument);
 }
