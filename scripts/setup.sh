@@ -8,9 +8,9 @@ packages=(
   libglfw3-dev libimgui-dev libglm-dev libosmesa6-dev libegl-dev libgl1-mesa-dri libstb-dev
   python3-glad fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev nlohmann-json3-dev
-  libinsighttoolkit5-dev zlib1g-dev
+  libinsighttoolkit5-dev zlib1g-dev libcli11-dev
   xvfb xauth x11-apps imagemagick
-  clang libclang-rt-14-dev
+  clang clang-format libclang-rt-14-dev
   tetgen
 )
 

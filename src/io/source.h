@@ -1,0 +1,81 @@
+// The one input model of the CLI and the app: what to open (a phantom, a volume file or DICOM
+// folder, headerless raw data, a label map beside the grey image, a chosen DICOM series), and
+// the opened input with everything both show and need before the methods run: the grey
+// volume, the label's mask, the iso suggestion and why, the histogram, the accuracy reference.
+// Whatever one of them can open, the other can, because both call open_source().
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/metrics.h"
+#include "core/progress.h"
+#include "core/segmentation.h"
+#include "core/volume.h"
+#include "core/volume_stats.h"
+#include "load_volume.h"
+
+namespace snert {
+
+// What to open. Compared whole (operator==): the app reloads only when this changes.
+struct SourceSpec {
+    std::string input;                // "phantom:NAME", a volume file, a DICOM folder or a .dcm
+    int phantom_size = 64;            // grid size of a phantom (phantoms only)
+    std::optional<RawOptions> raw;    // headerless raw data: how to read `input`
+    std::string series_uid;           // DICOM folder: this SeriesInstanceUID; empty: the largest
+    std::string labels;               // a label map on the same grid; empty: threshold the grey
+    std::optional<int> label;         // the label to extract from `labels`
+    std::size_t memory_limit = 0;     // bytes a volume may take; 0: what the machine has
+    bool operator==(const SourceSpec&) const = default;
+
+    bool is_phantom() const;
+};
+
+// One label of a label map, as the label picker lists it.
+struct LabelEntry {
+    int value = 0;
+    std::size_t voxels = 0;
+    std::string name; // from the file's header extension where it carries one; else empty
+};
+
+// The accuracy reference: an unsigned distance in voxel units. It owns what it reads (the
+// volume is shared), so a copy or a move of it, or of the Source, never dangles.
+struct AccuracyReference {
+    DistanceFunction distance; // empty: no reference
+    bool analytic = false;     // the phantom's exact surface
+    double volume = 0.0;       // enclosed volume of the exact surface (voxels^3), 0: unknown
+};
+
+struct Source {
+    SourceSpec spec;
+    std::string title;       // "phantom two-spheres, 64^3" or the file's name
+    std::string description; // one line: format, stored type, dims, spacing, value range
+    std::optional<VolumeInfo> info;       // files only
+    std::shared_ptr<const Volume> volume; // the grey values
+    // The label's mask (SourceSpec::labels with a label); null when thresholding the grey.
+    std::shared_ptr<const Segmentation> mask;
+    std::vector<LabelEntry> labels_present; // of the label map, ascending; empty without one
+    float suggested_iso = 0.0f;             // the phantom's, the label boundary's, or Otsu's
+    InsideIs suggested_inside = InsideIs::Above;
+    std::string iso_reason; // one line: why suggested_iso (Otsu, label boundary means, phantom)
+    Histogram histogram;    // of the grey values (128 bins)
+    std::vector<std::string> warnings; // one line each, e.g. NaN samples replaced
+    // The phantom's exact surface at suggested_iso (empty for files).
+    AccuracyReference exact_reference;
+};
+
+// Opens `spec`. Throws std::invalid_argument (bad options: unknown phantom, raw dims, a label
+// that does not occur, a series uid that is not there) or std::runtime_error (the file:
+// missing, truncated, not a volume, grids that differ), each one line starting with the path;
+// Cancelled when `progress` asks.
+Source open_source(const SourceSpec& spec, const Progress& progress = {});
+
+// The reference accuracies are measured against at `iso`: the phantom's exact surface when
+// iso is the phantom's own, else the first-order distance |I(p) - iso| / |grad I(p)| of the
+// grey values (which keeps the volume alive through a shared pointer).
+AccuracyReference accuracy_reference(const Source& source, float iso);
+
+} // namespace snert
