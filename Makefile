@@ -6,7 +6,7 @@ FUZZ_SECONDS ?= 60
 TSAN := build/tsan
 CHECK := build/check
 
-.PHONY: setup run test bench fuzz format clean
+.PHONY: setup release run test format-check bench fuzz format clean
 
 setup:
 	@bash scripts/setup.sh
@@ -18,8 +18,13 @@ release: setup
 run: release
 	bash scripts/run.sh $(RELEASE)/snert
 
-test: setup
-	cmake -S . -B $(TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNERT_SANITIZE=address,undefined
+# What `make test` checks, in order: formatting (format-check); the whole build under
+# AddressSanitizer and UBSan with warnings as errors, and every test; the worker under
+# ThreadSanitizer; a build without the GUI, of everything it configures, and the `data` tests
+# there (optimized).
+test: format-check
+	cmake -S . -B $(TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNERT_SANITIZE=address,undefined \
+		-DSNERT_WERROR=ON
 	cmake --build $(TEST) -j $(JOBS)
 	cd $(TEST) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 		ctest --output-on-failure -j $(JOBS)
@@ -28,10 +33,11 @@ test: setup
 		-DSNERT_BUILD_BENCH=OFF
 	cmake --build $(TSAN) --target snert_app_worker_tests -j $(JOBS)
 	TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" $(TSAN)/tests/app/snert_app_worker_tests
-	@# The real-volume tests (label `data`) again in an optimized build, where the two large
-	@# volumes, skipped under the sanitizers, take a minute instead of ten.
+	@# Without the GUI (no renderer, no app): all of it builds. The real-volume tests (label
+	@# `data`) run again there, optimized: the two large volumes, skipped under the sanitizers,
+	@# take a minute instead of ten.
 	cmake -S . -B $(CHECK) -DCMAKE_BUILD_TYPE=Release -DSNERT_BUILD_GUI=OFF -DSNERT_BUILD_BENCH=OFF
-	cmake --build $(CHECK) --target snert snert_data_tests -j $(JOBS)
+	cmake --build $(CHECK) -j $(JOBS)
 	cd $(CHECK) && ctest -L data --output-on-failure -j $(JOBS)
 
 bench: release
@@ -40,6 +46,12 @@ bench: release
 # libFuzzer on snert's own header handling and raw reader (clang, outside the CMake build).
 fuzz: setup
 	bash tests/fuzz/run.sh $(FUZZ_SECONDS)
+
+# Formatting of every tracked C++ file against .clang-format: reports, changes nothing
+# (`make format` rewrites them).
+format-check: setup
+	@command -v clang-format >/dev/null || { echo "clang-format not found (Debian: clang-format)"; exit 1; }
+	clang-format --dry-run --Werror $$(git ls-files '*.cpp' '*.h')
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

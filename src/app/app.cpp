@@ -5,13 +5,14 @@
 #include "render/gl.h" // glad first
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
 #include <imgui.h>
 
-#include "io/mesh_io.h"
 #include "core/phantom.h"
+#include "io/mesh_io.h"
 #include "path_completion.h"
 #include "render/panels.h"
 #include "view_renderer.h"
@@ -56,12 +57,27 @@ void apply_app_style(ImGuiStyle& style, float font_px) {
 App::App(AppOptions options) : options_(std::move(options)) {
     settings_ = load_settings(options_.settings_path);
     Parameters& p = settings_.parameters;
-    if (!options_.input.empty() && options_.input != p.volume.input) {
-        p.volume.input = options_.input;
+    // The saved input loaded in its session (only such inputs are saved): what a failed open
+    // of the command line's input goes back to.
+    fallback_ = p.volume;
+    if (options_.source && !(*options_.source == p.volume)) {
+        before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside}; // the saved input's, for a fallback
+        p.volume = *options_.source;
         p.auto_iso = true; // a saved iso belongs to the saved volume
     }
-    if (options_.phantom_size) p.volume.phantom_size = *options_.phantom_size;
-    if (phantom_spec_name(p.volume.input).empty()) open_path_text_ = p.volume.input;
+    if (options_.iso) {
+        p.iso = *options_.iso;
+        p.auto_iso = false;
+    }
+    if (options_.inside) p.inside = *options_.inside;
+    if (options_.pipeline) {
+        p.relax = options_.pipeline->relax;
+        p.triangulation = options_.pipeline->relax.triangulation;
+    }
+    if (fallback_ == p.volume) fallback_ = Parameters().volume;
+    if (p.volume.is_phantom()) phantom_size_ = p.volume.phantom_size;
+    sync_form(p.volume);
+    scan_series(p.volume.input);
 
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr; // the layout is part of our own settings file
@@ -150,6 +166,7 @@ void App::frame() {
 
     draw_status_bar();
     draw_help_window();
+    draw_about_window();
     draw_dialogs();
     restart_if_changed();
 }
@@ -157,6 +174,7 @@ void App::frame() {
 // --- Worker -------------------------------------------------------------------------------
 
 void App::drain_worker() {
+    poll_series();
     for (const Message& message : worker_->drain()) {
         if (!results_.apply(message)) continue;
         if (const auto* volume = std::get_if<VolumeMessage>(&message.payload)) {
@@ -164,23 +182,70 @@ void App::drain_worker() {
                 settings_.parameters.iso = volume->iso;
                 requested_.iso = volume->iso; // the same request, now with its value known
             }
-            const VolumeSpec& spec = volume->source->spec;
-            if (phantom_spec_name(spec.input).empty()) settings_.add_recent(spec.input);
-            const std::string key = spec.input + "#" + std::to_string(spec.phantom_size);
-            if (key != framed_for_) {
-                framed_for_ = key;
-                camera_needs_framing_ = true;
-            }
+            source_loaded(*volume->source);
         } else if (const auto* done = std::get_if<FinishedMessage>(&message.payload)) {
             if (converge_when_finished_ && !done->converged) {
                 converge_when_finished_ = false;
                 run_to_convergence();
             }
+        } else if (const auto* failed = std::get_if<FailedMessage>(&message.payload)) {
+            // No volume came before the failure: the input did not load.
+            if (!results_.source_current) load_failed(failed->error);
         }
     }
     views_->set_mesh(0, results_.mc);
     views_->set_mesh(1, results_.frame);
     frame_camera_if_needed();
+}
+
+void App::source_loaded(const Source& source) {
+    const SourceSpec& spec = source.spec;
+    const bool changed = !loaded_ || !(*loaded_ == spec);
+    loaded_ = spec;
+    before_open_.reset(); // load_error_ stays: it may be why this one is shown
+    settings_.add_recent(spec);
+    if (!changed) return;
+    sync_form(spec);
+    // A label's boundary says which side is the object (an organ darker than around it); a
+    // threshold of the grey keeps the side the user chose.
+    if (source.mask && settings_.parameters.auto_iso)
+        settings_.parameters.inside = source.suggested_inside;
+    std::error_code error;
+    if (!std::filesystem::is_directory(spec.input, error)) series_ = {};
+    const std::string key = format_source_line(spec) + "#" + std::to_string(spec.phantom_size);
+    if (key != framed_for_) {
+        framed_for_ = key;
+        camera_needs_framing_ = true;
+    }
+}
+
+// The input asked for did not load: say why, and go back to the last one that did (or, at
+// the start, to the saved one, then the default phantom), with the iso choice it had.
+void App::load_failed(const std::string& error) {
+    load_error_ = error;
+    notice(error, true);
+    Parameters& p = settings_.parameters;
+    const SourceSpec failed = requested_.volume;
+    SourceSpec back = loaded_ ? *loaded_ : fallback_;
+    if (!loaded_) fallback_ = Parameters().volume; // should the saved one fail too
+    if (back == failed) return;                    // nothing else to show: the error stays
+    p.volume = back;
+    if (before_open_) {
+        p.auto_iso = before_open_->auto_iso;
+        p.iso = before_open_->iso;
+        p.inside = before_open_->inside;
+        before_open_.reset();
+    }
+    sync_form(back);
+}
+
+void App::sync_form(const SourceSpec& spec) {
+    form_.path = spec.is_phantom() ? std::string() : spec.input;
+    form_.raw = spec.raw.has_value();
+    if (spec.raw) form_.raw_options = *spec.raw;
+    form_.labels = spec.labels;
+    completions_.clear();
+    label_completions_.clear();
 }
 
 void App::restart_if_changed() {
@@ -197,25 +262,110 @@ void App::set_parameters(const Parameters& parameters) {
     settings_.parameters = parameters;
 }
 
-void App::open(const VolumeSpec& spec) {
+void App::open(const SourceSpec& spec) {
     Parameters& p = settings_.parameters;
+    if (spec.is_phantom()) phantom_size_ = spec.phantom_size;
     if (p.volume == spec) return;
+    if (!before_open_) before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside};
     p.volume = spec;
     p.auto_iso = true;
+    load_error_.clear();
+    scan_series(spec.input);
 }
 
 void App::open_path(const std::string& path) {
     const std::string expanded = expand_home(path);
-    if (!phantom_spec_name(expanded).empty()) {
-        open({expanded, settings_.parameters.volume.phantom_size});
+    SourceSpec spec;
+    spec.input = expanded;
+    if (spec.is_phantom()) spec.phantom_size = phantom_size_;
+    if (!spec.is_phantom()) {
+        if (!openable_path(expanded)) {
+            notice(expanded + ": no such file or folder", true);
+            return;
+        }
+        if (form_.raw && !std::filesystem::is_directory(expanded)) spec.raw = form_.raw_options;
+    }
+    form_.path = spec.is_phantom() ? std::string() : expanded;
+    open(spec);
+}
+
+void App::open_form() {
+    completions_.clear();
+    label_completions_.clear();
+    const std::string path = expand_home(form_.path);
+    if (path.empty()) {
+        notice("type the path of a volume file or DICOM folder first", true);
         return;
     }
-    if (!openable_path(expanded)) {
-        notice(expanded + ": no such file or folder");
-        return;
+    const SourceSpec& shown = settings_.parameters.volume;
+    SourceSpec spec;
+    spec.input = path;
+    if (spec.is_phantom()) spec.phantom_size = phantom_size_;
+    if (!spec.is_phantom()) {
+        if (!openable_path(path)) {
+            notice(path + ": no such file or folder", true);
+            return;
+        }
+        if (form_.raw && !std::filesystem::is_directory(path)) spec.raw = form_.raw_options;
+        if (path == shown.input) spec.series_uid = shown.series_uid;
+        spec.labels = expand_home(form_.labels);
+        if (!spec.labels.empty() && !openable_path(spec.labels)) {
+            notice(spec.labels + ": no such label map", true);
+            return;
+        }
+        // The label stays chosen while the label map does; a new map lists its labels first.
+        if (!spec.labels.empty() && spec.labels == shown.labels) spec.label = shown.label;
     }
-    open_path_text_ = expanded;
-    open({expanded, settings_.parameters.volume.phantom_size});
+    form_.path = spec.is_phantom() ? std::string() : path;
+    form_.labels = spec.labels;
+    open(spec);
+}
+
+void App::choose_label(std::optional<int> label) {
+    SourceSpec spec = settings_.parameters.volume;
+    if (spec.labels.empty()) return;
+    spec.label = label;
+    open(spec);
+}
+
+void App::choose_series(const std::string& uid) {
+    if (series_.folder.empty()) return;
+    SourceSpec spec;
+    spec.input = series_.folder;
+    spec.series_uid = uid;
+    form_.path = spec.input;
+    open(spec);
+}
+
+// DICOM folders: their series are listed by a child process (io/dicom_series.h), which takes
+// a while on a large folder, so off the UI thread; the frame polls the result.
+void App::scan_series(const std::string& folder) {
+    std::error_code error;
+    if (folder.empty() || !std::filesystem::is_directory(folder, error)) return;
+    if (series_.folder == folder &&
+        (series_.scanning || !series_.error.empty() || !series_.series.empty()))
+        return;
+    if (series_scan_.valid()) stale_scans_.push_back(std::move(series_scan_));
+    series_ = {};
+    series_.folder = folder;
+    series_.scanning = true;
+    series_scan_ = std::async(std::launch::async, [folder] { return list_dicom_series(folder); });
+}
+
+void App::poll_series() {
+    std::erase_if(stale_scans_, [](const std::future<std::vector<DicomSeries>>& f) {
+        return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    });
+    if (!series_scan_.valid() ||
+        series_scan_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        return;
+    series_.scanning = false;
+    try {
+        series_.series = series_scan_.get();
+        if (series_.series.empty()) series_.error = series_.folder + ": no DICOM series";
+    } catch (const std::exception& e) {
+        series_.error = e.what();
+    }
 }
 
 void App::on_drop(const std::vector<std::string>& paths) {
@@ -290,7 +440,8 @@ void App::run_to_convergence() {
 
 render::DrawStyle App::draw_style() const {
     render::DrawStyle style;
-    style.shading = render::parse_shading(settings_.view.shading).value_or(render::Shading::Smooth);
+    style.shading =
+        parse_name<render::Shading>(settings_.view.shading).value_or(render::Shading::Smooth);
     style.wireframe = settings_.view.wireframe;
     style.quality_threshold = settings_.view.quality_threshold;
     return style;
@@ -308,7 +459,7 @@ void App::reset_camera() {
     const auto bounds = views_->bounds();
     if (!bounds) return;
     const auto preset =
-        render::parse_view_preset(settings_.view.preset).value_or(render::ViewPreset::Iso);
+        parse_name<render::ViewPreset>(settings_.view.preset).value_or(render::ViewPreset::Iso);
     camera_ = render::frame_bounds(*bounds, preset, view_aspect_);
 }
 
@@ -353,29 +504,29 @@ void App::perform(Action action) {
         reset_camera();
         break;
     case Action::ViewFront:
-        view.preset = "front";
+        view.preset = name_of(render::ViewPreset::Front);
         reset_camera();
         break;
     case Action::ViewSide:
-        view.preset = "side";
+        view.preset = name_of(render::ViewPreset::Side);
         reset_camera();
         break;
     case Action::ViewTop:
-        view.preset = "top";
+        view.preset = name_of(render::ViewPreset::Top);
         reset_camera();
         break;
     case Action::ViewIso:
-        view.preset = "iso";
+        view.preset = name_of(render::ViewPreset::Iso);
         reset_camera();
         break;
     case Action::ShadingFlat:
-        view.shading = "flat";
+        view.shading = name_of(render::Shading::Flat);
         break;
     case Action::ShadingSmooth:
-        view.shading = "smooth";
+        view.shading = name_of(render::Shading::Smooth);
         break;
     case Action::ShadingQuality:
-        view.shading = "quality";
+        view.shading = name_of(render::Shading::Quality);
         break;
     case Action::ToggleWireframe:
         view.wireframe = !view.wireframe;
@@ -411,11 +562,12 @@ void App::perform(Action action) {
 
 std::string App::default_output_base() const {
     std::string name = "snert";
-    const VolumeSpec& v = settings_.parameters.volume;
+    const SourceSpec& v = loaded_ ? *loaded_ : settings_.parameters.volume;
     if (const std::string_view phantom = phantom_spec_name(v.input); !phantom.empty())
         name += "-" + std::string(phantom) + "-" + std::to_string(v.phantom_size);
     else
         name += "-" + std::filesystem::path(v.input).stem().string();
+    if (v.label) name += "-label" + std::to_string(*v.label);
     if (results_.frame) name += "-" + std::to_string(results_.frame->iteration);
     return name;
 }
@@ -448,7 +600,7 @@ bool App::save_screenshot(const render::Image& window_image, const ScreenshotReq
             throw std::runtime_error(request.path + ": nothing to save (the views are hidden)");
         render::write_png(request.path, crop);
     } catch (const std::exception& e) {
-        notice(std::string("screenshot failed: ") + e.what());
+        notice(std::string("screenshot failed: ") + e.what(), true);
         return false;
     }
     notice("screenshot saved: " + request.path);
@@ -471,13 +623,25 @@ std::vector<std::string> App::export_meshes(const std::string& base, const std::
     return written;
 }
 
-void App::save_settings() const {
-    if (options_.settings_path.empty()) return;
-    snert::app::save_settings(settings_, options_.settings_path);
+Settings App::settings_to_save() const {
+    Settings saved = settings_;
+    // Never an input that did not (or did not yet) load: the next session would start on it.
+    saved.parameters.volume = loaded_ ? *loaded_ : fallback_;
+    if (before_open_) {
+        saved.parameters.auto_iso = before_open_->auto_iso;
+        saved.parameters.iso = before_open_->iso;
+        saved.parameters.inside = before_open_->inside;
+    }
+    return saved;
 }
 
-void App::notice(std::string text) {
-    notices_.push_back(std::move(text));
+void App::save_settings() const {
+    if (options_.settings_path.empty()) return;
+    snert::app::save_settings(settings_to_save(), options_.settings_path);
+}
+
+void App::notice(std::string text, bool error) {
+    notices_.push_back({std::move(text), error});
     if (notices_.size() > 20) notices_.erase(notices_.begin());
     notice_timer_ = 5.0f;
 }

@@ -1,6 +1,12 @@
 // The interactive app: Marching Cubes and the relaxed SurfaceNet side by side, the parameters
 // that make them, and the relaxation's iterations to step through.
 //
+// Input: whatever the CLI opens (io/source.h: a phantom, a volume file, a DICOM folder and one
+// of its series, headerless raw data, a label map beside the grey image with one label). The
+// app keeps the last input that loaded: when opening another one fails, the error is shown in
+// red, the old input (and its meshes) stay, and parameter changes keep running on it; only
+// inputs that loaded are remembered (settings, recent list).
+//
 // Screen (all panels are parts of one window; the splitters between them can be dragged):
 //
 //   File  View  Phantoms  Help                                                   menu bar
@@ -23,12 +29,16 @@
 // when something they show changed.
 #pragma once
 
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/pipeline.h"
+#include "io/dicom_series.h"
+#include "io/source.h"
 #include "job_results.h"
 #include "render/camera.h"
 #include "render/fonts.h"
@@ -42,12 +52,41 @@ namespace snert::app {
 
 class ViewRenderer;
 
+// What the command line (snert gui) or a test asks for; each given item overrides the saved
+// settings for this session (and is saved on exit like a choice made in the window).
 struct AppOptions {
-    std::string input;               // "phantom:NAME" or a volume file; empty: the saved one
-    std::optional<int> phantom_size; // size of a phantom input; empty: the saved size
-    std::string settings_path;       // read at start, written by save_settings(); empty: none
-    bool show_timings = true;        // false: no wall-clock times on screen (snapshot tests)
-    float content_scale = 1.0f;      // the monitor's scale (HiDPI): multiplies the text size
+    std::optional<SourceSpec> source; // the input; empty: the saved one
+    std::optional<float> iso;         // a fixed iso value; empty: the saved choice
+    std::optional<InsideIs> inside;   // which side is the object; empty: the saved choice
+    // The relaxation's options (mode, weights, schedule, constraint, gradient, iterations,
+    // epsilon, triangulation); iso and inside come from the two members above.
+    std::optional<PipelineOptions> pipeline;
+    std::string settings_path;  // read at start, written by save_settings(); empty: none
+    bool show_timings = true;   // false: no wall-clock times on screen (snapshot tests)
+    float content_scale = 1.0f; // the monitor's scale (HiDPI): multiplies the text size
+};
+
+// The Open panel's fields that are not applied until Open is pressed (the label and the DICOM
+// series are pickers that open at once). Kept in step with the input shown.
+struct OpenForm {
+    std::string path; // the path field: a volume file, a DICOM folder or a .dcm
+    bool raw = false; // headerless raw data: read `path` with raw_options
+    RawOptions raw_options{glm::ivec3(64), ScalarType::UInt16, glm::vec3(1.0f), Endian::Little};
+    std::string labels; // the label map field: a label volume on the grey image's grid
+};
+
+// A message in the status line: an outcome (screenshot saved) or an error (red).
+struct Notice {
+    std::string text;
+    bool error = false;
+};
+
+// The DICOM series of a folder, listed off the UI thread (io/dicom_series.h).
+struct SeriesList {
+    std::string folder;
+    bool scanning = false;
+    std::vector<DicomSeries> series; // largest first
+    std::string error;               // the scan failed (one line)
 };
 
 // A rectangle in window pixels, origin at the top-left.
@@ -81,8 +120,15 @@ class App {
     void frame();
 
     // --- Actions (menus, buttons, shortcuts, drag-and-drop and tests all come here) ---
-    void open(const VolumeSpec& spec);
-    void open_path(const std::string& path);             // a file or DICOM folder
+    // Opens `spec` (restarts the computation at the next frame). Should it fail to load, the
+    // app goes back to the input shown before and says why (load_error()).
+    void open(const SourceSpec& spec);
+    // A file or DICOM folder, read as headerless raw data when the form's raw box is ticked.
+    void open_path(const std::string& path);
+    void open_form(); // what the Open panel's fields say (the Open button, Enter)
+    // The label map's label to extract; empty: threshold the grey values (and list the labels).
+    void choose_label(std::optional<int> label);
+    void choose_series(const std::string& uid);          // a series of the DICOM folder shown
     void on_drop(const std::vector<std::string>& paths); // opens the first one
     void perform(Action action);
     void show_iteration(int k); // pin the right view to iteration k (clamped)
@@ -101,6 +147,17 @@ class App {
     // --- State for the glue and the tests ---
     const Settings& settings() const { return settings_; }
     Settings& settings() { return settings_; }
+    // What save_settings() writes: the settings with the last input that loaded.
+    Settings settings_to_save() const;
+    // The Open panel's fields (tests fill them as a user would type).
+    OpenForm& form() { return form_; }
+    const OpenForm& form() const { return form_; }
+    // The input last loaded in this session (what a failed open falls back to).
+    const std::optional<SourceSpec>& loaded_source() const { return loaded_; }
+    // Why the last open failed (one line, names the input); empty after one that loaded.
+    const std::string& load_error() const { return load_error_; }
+    // The DICOM series of the folder last opened; empty folder: none listed.
+    const SeriesList& series_list() const { return series_; }
     const JobResults& results() const { return results_; }
     const Worker& worker() const { return *worker_; }
     int shown_iteration() const; // the iteration the slider shows
@@ -129,9 +186,11 @@ class App {
     // Saves the settings (with the glue's window geometry already stored in settings()).
     void save_settings() const;
     // Messages for the user (screenshot saved, export failed...), newest last.
-    const std::vector<std::string>& notices() const { return notices_; }
+    const std::vector<Notice>& notices() const { return notices_; }
     // The text of the Open field (tests of its completion).
-    const std::string& open_field_text() const { return open_path_text_; }
+    const std::string& open_field_text() const { return form_.path; }
+    bool about_open() const { return about_open_; }
+    void show_about() { about_open_ = true; }
 
   private:
     // Frame parts (app.cpp, app_panels.cpp, app_views.cpp, app_menus.cpp).
@@ -142,6 +201,10 @@ class App {
     void draw_menu_bar();
     void draw_side_panel();
     void draw_volume_section();
+    void draw_open_fields();
+    void draw_raw_options();
+    void draw_label_map();
+    void draw_series_list();
     void draw_iso_section();
     void draw_relaxation_section();
     void draw_progress_section();
@@ -154,10 +217,16 @@ class App {
     void draw_convergence_tab();
     void draw_status_bar();
     void draw_help_window();
+    void draw_about_window();
     void draw_dialogs();
     void handle_view_input(const UiRect& area);
     void record(const std::string& id); // the last item's rectangle under `id`
-    void notice(std::string text);
+    void notice(std::string text, bool error = false);
+    void source_loaded(const Source& source);
+    void load_failed(const std::string& error);
+    void sync_form(const SourceSpec& spec);
+    void scan_series(const std::string& folder);
+    void poll_series();
     void frame_camera_if_needed();
     std::string default_output_base() const;
 
@@ -183,11 +252,30 @@ class App {
     bool camera_needs_framing_ = true;
     float view_aspect_ = 1.0f;
 
+    // Input. `loaded_` is the last input that loaded; `fallback_` what a failed first open
+    // goes back to (the saved input, then the default phantom). `before_open_` holds the iso
+    // choice the open replaced, restored when it fails.
+    std::optional<SourceSpec> loaded_;
+    SourceSpec fallback_;
+    int phantom_size_ = 64; // of the phantoms the menus open (a file's spec keeps the default)
+    struct IsoChoice {
+        bool auto_iso = true;
+        float iso = 0.0f;
+        InsideIs inside = InsideIs::Above;
+    };
+    std::optional<IsoChoice> before_open_;
+    std::string load_error_;
+    OpenForm form_;
+    SeriesList series_;
+    std::future<std::vector<DicomSeries>> series_scan_;
+    std::vector<std::future<std::vector<DicomSeries>>> stale_scans_; // finish, then dropped
+
     // Panels and dialogs.
-    std::string open_path_text_;
     std::vector<std::string> completions_;
+    std::vector<std::string> label_completions_;
     bool focus_open_field_ = false;
     bool help_open_ = false;
+    bool about_open_ = false;
     bool screenshot_dialog_ = false, export_dialog_ = false;
     std::string screenshot_path_, export_base_;
     int export_format_ = 0;
@@ -195,7 +283,7 @@ class App {
     std::optional<ScreenshotRequest> screenshot_request_;
     bool screenshot_pending_ = false;
     std::string screenshot_pending_path_;
-    std::vector<std::string> notices_;
+    std::vector<Notice> notices_;
     float notice_timer_ = 0.0f;
     bool tab_restored_ = false; // the saved bottom tab was selected
     std::map<std::string, UiRect> rects_;

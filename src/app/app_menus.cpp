@@ -1,7 +1,9 @@
-// Menus, the status line, the Help window and the screenshot / export dialogs.
+// Menus, the status line, the Help and About windows and the screenshot / export dialogs.
 #include "app.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <string>
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -14,6 +16,24 @@ namespace snert::app {
 namespace {
 
 constexpr const char* kExportFormats[] = {"stl", "obj", "ply", "off", "vtk"};
+
+#ifndef SNERT_VERSION
+#define SNERT_VERSION "unknown"
+#endif
+
+// `text` cut at the end with an ellipsis so that it fits `width` pixels in the current font.
+std::string fit_text(const std::string& text, float width) {
+    if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+    const std::string ellipsis = "\xE2\x80\xA6";
+    std::size_t n = text.size();
+    while (n > 0) {
+        --n;
+        while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n; // UTF-8
+        const std::string cut = text.substr(0, n) + ellipsis;
+        if (ImGui::CalcTextSize(cut.c_str()).x <= width) return cut;
+    }
+    return ellipsis;
+}
 
 bool menu_action(App& app, const char* label, Action action, bool selected = false,
                  bool enabled = true) {
@@ -31,8 +51,8 @@ void App::draw_menu_bar() {
     if (ImGui::BeginMenu("File")) {
         menu_action(*this, "Open volume file...", Action::OpenFile);
         if (ImGui::BeginMenu("Recent files", !settings_.recent_files.empty())) {
-            for (const std::string& path : settings_.recent_files)
-                if (ImGui::MenuItem(path.c_str())) open_path(path);
+            for (const SourceSpec& spec : settings_.recent_files)
+                if (ImGui::MenuItem(format_source_line(spec).c_str())) open(spec);
             ImGui::EndMenu();
         }
         ImGui::Separator();
@@ -44,23 +64,19 @@ void App::draw_menu_bar() {
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Phantoms")) {
-        const VolumeSpec& v = settings_.parameters.volume;
+        const SourceSpec& v = settings_.parameters.volume;
         for (const std::string& name : phantom_names()) {
-            const std::string size = std::to_string(v.phantom_size) + "\xC2\xB3";
+            const std::string size = std::to_string(phantom_size_) + "\xC2\xB3";
             if (ImGui::MenuItem(name.c_str(), size.c_str(), v.input == "phantom:" + name))
-                open({"phantom:" + name, v.phantom_size});
+                open({"phantom:" + name, phantom_size_});
         }
         ImGui::Separator();
         if (ImGui::BeginMenu("Grid size")) {
             for (int size : {32, 48, 64, 96, 128}) {
                 const std::string label = std::to_string(size) + "\xC2\xB3 voxels";
-                if (ImGui::MenuItem(label.c_str(), nullptr, v.phantom_size == size)) {
-                    VolumeSpec spec = v;
-                    spec.phantom_size = size;
-                    if (!phantom_spec_name(v.input).empty())
-                        open(spec);
-                    else
-                        settings_.parameters.volume.phantom_size = size;
+                if (ImGui::MenuItem(label.c_str(), nullptr, phantom_size_ == size)) {
+                    phantom_size_ = size;
+                    if (v.is_phantom()) open({v.input, size});
                 }
             }
             ImGui::EndMenu();
@@ -101,6 +117,8 @@ void App::draw_menu_bar() {
     }
     if (ImGui::BeginMenu("Help")) {
         menu_action(*this, "Keys, mouse and what you see", Action::Help, help_open_);
+        ImGui::Separator();
+        if (ImGui::MenuItem("About snert")) about_open_ = true;
         ImGui::EndMenu();
     }
     ImGui::EndMainMenuBar();
@@ -112,11 +130,12 @@ std::string App::status_text() const {
         text = results_.source->title;
     else
         text = settings_.parameters.volume.input;
+    if (results_.source && results_.source->spec.label)
+        text += ", label " + std::to_string(*results_.source->spec.label);
     char iso[48];
     std::snprintf(iso, sizeof iso, "  \xC2\xB7  iso %.4g", settings_.parameters.iso);
     text += iso;
-    text +=
-        "  \xC2\xB7  " + std::string(label_of(method_of(settings_.parameters.relax.mode)));
+    text += "  \xC2\xB7  " + std::string(label_of(method_of(settings_.parameters.relax.mode)));
     if (!results_.error.empty()) {
         text += "  \xC2\xB7  failed: " + results_.error;
     } else if (results_.finished) {
@@ -150,14 +169,20 @@ void App::draw_status_bar() {
     ImGui::PopStyleVar();
     const std::string help = "F1: keys and help";
     const float help_width = ImGui::CalcTextSize(help.c_str()).x;
+    const float help_x = std::max(ImGui::GetWindowWidth() - help_width - fonts_.size, 0.0f);
+    // The message ends (with an ellipsis) before the hint, which is never drawn over.
+    const float text_width = std::max(help_x - ImGui::GetCursorPosX() - fonts_.size, 0.0f);
     if (notice_timer_ > 0 && !notices_.empty()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(0, 100, 160, 255));
-        ImGui::TextUnformatted(notices_.back().c_str());
+        const Notice& n = notices_.back();
+        ImGui::PushStyleColor(ImGuiCol_Text,
+                              n.error ? IM_COL32(190, 30, 30, 255) : IM_COL32(0, 100, 160, 255));
+        ImGui::TextUnformatted(fit_text(n.text, text_width).c_str());
         ImGui::PopStyleColor();
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", n.text.c_str());
     } else {
-        ImGui::TextUnformatted(status_text().c_str());
+        ImGui::TextUnformatted(fit_text(status_text(), text_width).c_str());
     }
-    ImGui::SameLine(std::max(ImGui::GetWindowWidth() - help_width - fonts_.size, 0.0f));
+    ImGui::SameLine(help_x);
     ImGui::TextDisabled("%s", help.c_str());
     ImGui::End();
 }
@@ -225,6 +250,39 @@ void App::draw_help_window() {
     ImGui::End();
 }
 
+void App::draw_about_window() {
+    if (!about_open_) return;
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x + 0.5f * viewport->Size.x,
+                                   viewport->Pos.y + 0.5f * viewport->Size.y),
+                            ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowSize(ImVec2(32.0f * fonts_.size, 0), ImGuiCond_Appearing);
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 1.0f);
+    const bool visible =
+        ImGui::Begin("About snert", &about_open_,
+                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::PopStyleVar();
+    if (visible) {
+        ImGui::PushTextWrapPos(30.0f * fonts_.size);
+        ImGui::PushFont(fonts_.bold);
+        ImGui::TextUnformatted("snert " SNERT_VERSION);
+        ImGui::PopFont();
+        ImGui::TextWrapped("Marching Cubes and SurfaceNets with Extended Relaxation and "
+                           "Triangulation (SNERT) side by side: both surfaces of a CT, MRI or "
+                           "phantom volume, measured, with the relaxation to step through.");
+        ImGui::Spacing();
+        ImGui::TextDisabled("The method:");
+        ImGui::TextWrapped("P. W. de Bruin, F. M. Vos, F. H. Post, S. F. Frisken-Gibson and "
+                           "A. M. Vossepoel, Improving Triangle Mesh Quality with SurfaceNets. "
+                           "Medical Image Computing and Computer-Assisted Intervention (MICCAI "
+                           "2000), LNCS 1935, Springer.");
+        ImGui::Spacing();
+        if (ImGui::Button("Close") || ImGui::IsKeyPressed(key::Escape)) about_open_ = false;
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::End();
+}
+
 void App::draw_dialogs() {
     if (screenshot_dialog_) {
         ImGui::OpenPopup("Save screenshot");
@@ -263,7 +321,8 @@ void App::draw_dialogs() {
         const std::string format = kExportFormats[export_format_];
         if (results_.mc) ImGui::BulletText("%s-mc.%s", export_base_.c_str(), format.c_str());
         if (results_.frame)
-            ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(), std::string(name_of(results_.frame->method)).c_str(),
+            ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(),
+                              std::string(name_of(results_.frame->method)).c_str(),
                               results_.frame->iteration, format.c_str());
         if (ImGui::Button("Export")) {
             try {
@@ -271,7 +330,7 @@ void App::draw_dialogs() {
                 notice("exported " + std::to_string(written.size()) +
                        " meshes: " + (written.empty() ? std::string() : written.back()));
             } catch (const std::exception& e) {
-                notice(std::string("export failed: ") + e.what());
+                notice(std::string("export failed: ") + e.what(), true);
             }
             ImGui::CloseCurrentPopup();
         }

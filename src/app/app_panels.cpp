@@ -1,10 +1,13 @@
-// The side panel (volume, iso value, relaxation parameters, progress) and the bottom panel
+// The side panel (the input, iso value, relaxation parameters, progress) and the bottom panel
 // (quality histograms with the metrics table, and the convergence plots).
 #include "app.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string>
+#include <string_view>
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -33,19 +36,25 @@ void help_marker(const char* text) {
     }
 }
 
-// A combo over a small set of enum values.
-template <class T>
-bool enum_combo(const char* label, T& value,
-                std::initializer_list<std::pair<T, const char*>> items) {
-    const char* preview = items.begin()->second;
-    for (const auto& [v, name] : items)
-        if (v == value) preview = name;
+// The head of a label, for a narrow combo: "SNERT: projected averaging ..." -> "SNERT",
+// "ray-box (shorten the move)" -> "ray-box".
+std::string short_label(std::string_view label) {
+    return std::string(label.substr(0, std::min(label.find(": "), label.find(" ("))));
+}
+
+// A combo over an option enum: shows the labels of its name table (core/names.h), the whole
+// label in the list and as the tooltip, its head in the narrow box.
+template <class E> bool name_combo(const char* label, E& value) {
     bool changed = false;
-    if (ImGui::BeginCombo(label, preview)) {
-        for (const auto& [v, name] : items) {
-            if (ImGui::Selectable(name, v == value)) {
-                changed = v != value;
-                value = v;
+    const std::string full(label_of(value));
+    const bool open = ImGui::BeginCombo(label, short_label(full).c_str());
+    if (!open && ImGui::IsItemHovered() && short_label(full) != full)
+        ImGui::SetTooltip("%s", full.c_str());
+    if (open) {
+        for (const Named<E>& row : name_table(E{})) {
+            if (ImGui::Selectable(std::string(row.label).c_str(), row.value == value)) {
+                changed = row.value != value;
+                value = row.value;
             }
         }
         ImGui::EndCombo();
@@ -74,6 +83,91 @@ std::string phantom_label(const std::string& name, int size) {
     return name + "  (" + std::to_string(size) + "\xC2\xB3)";
 }
 
+constexpr ImU32 kErrorColor = IM_COL32(190, 30, 30, 255);
+constexpr ImU32 kWarningColor = IM_COL32(160, 90, 0, 255);
+constexpr ImU32 kNoteColor = IM_COL32(88, 92, 100, 255);
+
+void coloured_text(ImU32 color, const std::string& text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, color);
+    ImGui::TextWrapped("%s", text.c_str());
+    ImGui::PopStyleColor();
+}
+
+// A path field with Tab completion; the candidates of the last Tab are listed under it, and a
+// click takes one (a folder continues the path). Returns true when Enter was pressed or a file
+// was picked from the list.
+bool path_field(const char* id, const char* hint, std::string& text,
+                std::vector<std::string>& candidates, float width, bool& focus) {
+    if (focus) {
+        ImGui::SetKeyboardFocusHere();
+        focus = false;
+    }
+    CompletionState completion{&candidates};
+    ImGui::SetNextItemWidth(width);
+    bool entered = ImGui::InputTextWithHint(id, hint, &text,
+                                            ImGuiInputTextFlags_EnterReturnsTrue |
+                                                ImGuiInputTextFlags_CallbackCompletion,
+                                            complete_callback, &completion);
+    return entered;
+}
+
+// The list under a path field after Tab. Returns the file picked (empty: none).
+std::string completion_list(const char* id, std::string& text, std::vector<std::string>& candidates,
+                            bool field_active, bool& focus) {
+    if (candidates.empty()) return {};
+    ImGui::BeginChild(id,
+                      ImVec2(0, std::min(6.5f, float(candidates.size()) + 0.5f) *
+                                    ImGui::GetTextLineHeightWithSpacing()),
+                      true);
+    std::string picked;
+    for (const std::string& c : candidates)
+        if (ImGui::Selectable(c.c_str())) picked = c;
+    ImGui::EndChild();
+    if (!picked.empty()) {
+        text = picked;
+        candidates.clear();
+        if (picked.back() == '/') {
+            focus = true;
+            return {};
+        }
+        return picked;
+    }
+    if (!field_active && !ImGui::IsWindowFocused(ImGuiFocusedFlags_ChildWindows) &&
+        ImGui::IsMouseClicked(ImGuiMouseButton_Left))
+        candidates.clear();
+    return {};
+}
+
+// One line for an input in the recent lists: the file, then its options.
+std::string recent_label(const SourceSpec& spec) {
+    namespace fs = std::filesystem;
+    std::string text = spec.input;
+    if (spec.raw) {
+        const RawOptions& r = *spec.raw;
+        text += "  (raw " + std::string(scalar_type_name(r.type)) + " " + std::to_string(r.dims.x) +
+                "x" + std::to_string(r.dims.y) + "x" + std::to_string(r.dims.z) + ")";
+    }
+    if (!spec.series_uid.empty()) text += "  (series " + spec.series_uid + ")";
+    if (!spec.labels.empty()) {
+        text += "  (labels " + fs::path(spec.labels).filename().string();
+        if (spec.label) text += ", label " + std::to_string(*spec.label);
+        text += ")";
+    }
+    return text;
+}
+
+std::string label_entry_text(const LabelEntry& e) {
+    std::string text = std::to_string(e.value);
+    if (!e.name.empty()) text += "  " + e.name;
+    return text + "  (" + render::format_count(e.voxels) + " voxels)";
+}
+
+std::string series_text(const DicomSeries& s) {
+    std::string text = s.description.empty() ? std::string("(no description)") : s.description;
+    text += "  \xC2\xB7  " + std::to_string(s.files) + " files  \xC2\xB7  " + s.uid;
+    return text;
+}
+
 } // namespace
 
 void App::draw_side_panel() {
@@ -92,108 +186,258 @@ void App::draw_side_panel() {
 }
 
 void App::draw_volume_section() {
-    const Parameters& p = settings_.parameters;
-    if (results_.source) {
+    const SourceSpec& requested = settings_.parameters.volume;
+    const Source* shown = results_.source.get();
+    if (shown) {
         ImGui::PushFont(fonts_.bold);
-        ImGui::TextWrapped("%s", results_.source->title.c_str());
+        ImGui::TextWrapped("%s", shown->title.c_str());
         ImGui::PopFont();
-        ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(88, 92, 100, 255));
-        ImGui::TextWrapped("%s", results_.source->description.c_str());
+        coloured_text(kNoteColor, shown->description);
+        for (const std::string& warning : shown->warnings) coloured_text(kWarningColor, warning);
+    }
+    if (!load_error_.empty()) {
+        coloured_text(kErrorColor, "Could not open: " + load_error_);
+        record("load_error");
+        if (ImGui::SmallButton("Dismiss")) load_error_.clear();
+    } else if (!loaded_ || !(*loaded_ == requested)) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kNoteColor);
+        ImGui::TextWrapped("opening %s...", recent_label(requested).c_str());
         ImGui::PopStyleColor();
-    } else {
-        ImGui::TextDisabled("loading %s...", p.volume.input.c_str());
     }
     ImGui::Spacing();
 
     // Phantoms: synthetic volumes with an exact reference surface.
-    const std::string current_phantom(phantom_spec_name(p.volume.input));
+    const std::string current_phantom(phantom_spec_name(requested.input));
+    const int phantom_size = phantom_size_;
     ImGui::SetNextItemWidth(-FLT_MIN);
-    const std::string preview =
-        current_phantom.empty()
-            ? "Phantom..."
-            : "Phantom: " + phantom_label(current_phantom, p.volume.phantom_size);
+    const std::string preview = current_phantom.empty()
+                                    ? "Phantom..."
+                                    : "Phantom: " + phantom_label(current_phantom, phantom_size);
     if (ImGui::BeginCombo("##phantom", preview.c_str())) {
         for (const std::string& name : phantom_names())
-            if (ImGui::Selectable(phantom_label(name, p.volume.phantom_size).c_str(),
+            if (ImGui::Selectable(phantom_label(name, phantom_size).c_str(),
                                   name == current_phantom))
-                open({"phantom:" + name, p.volume.phantom_size});
+                open({"phantom:" + name, phantom_size});
         ImGui::Separator();
         ImGui::TextDisabled("grid size");
         for (int size : kPhantomSizes) {
             ImGui::SameLine();
-            if (ImGui::RadioButton(std::to_string(size).c_str(), p.volume.phantom_size == size)) {
-                VolumeSpec spec = p.volume;
-                spec.phantom_size = size;
-                if (!current_phantom.empty())
-                    open(spec);
-                else
-                    settings_.parameters.volume.phantom_size = size;
+            if (ImGui::RadioButton(std::to_string(size).c_str(), phantom_size == size)) {
+                phantom_size_ = size;
+                if (!current_phantom.empty()) open({requested.input, size});
             }
         }
         ImGui::EndCombo();
     }
     record("phantom_combo");
+    draw_open_fields();
+    ImGui::Spacing();
+}
 
-    // A file: typed (Tab completes), picked from the recent ones, or dropped on the window.
-    if (focus_open_field_) {
-        ImGui::SetKeyboardFocusHere();
-        focus_open_field_ = false;
-    }
-    CompletionState completion{&completions_};
-    ImGui::SetNextItemWidth(-4.0f * fonts_.size);
-    const bool entered = ImGui::InputTextWithHint(
-        "##open path", "volume file or DICOM folder", &open_path_text_,
-        ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_CallbackCompletion,
-        complete_callback, &completion);
+// A file: typed (Tab completes), picked from the recent ones, or dropped on the window; read as
+// headerless raw data when asked; with a label map beside it; a DICOM folder's series.
+void App::draw_open_fields() {
+    const float open_width = 4.0f * fonts_.size;
+    const bool entered =
+        path_field("##open path", "volume file or DICOM folder", form_.path, completions_,
+                   ImGui::GetContentRegionAvail().x - open_width - ImGui::GetStyle().ItemSpacing.x,
+                   focus_open_field_);
     record("open_field");
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("NRRD, NIfTI, MetaImage, VTK or a DICOM folder.\nTab completes the "
-                          "path; you can also drop a file onto the window.");
+        ImGui::SetTooltip("NRRD, NIfTI, MetaImage, VTK, a DICOM folder or .dcm, or headerless "
+                          "raw data.\nTab completes the path; you can also drop a file onto the "
+                          "window.");
     const bool field_active = ImGui::IsItemActive();
     ImGui::SameLine();
-    if (ImGui::Button("Open", ImVec2(-FLT_MIN, 0)) || entered) {
-        completions_.clear();
-        open_path(open_path_text_);
-    }
-    if (!completions_.empty()) {
-        // The candidates of the last Tab; a click takes one (a folder continues the path).
-        ImGui::BeginChild("completions",
-                          ImVec2(0, std::min(6.5f, float(completions_.size()) + 0.5f) *
-                                        ImGui::GetTextLineHeightWithSpacing()),
-                          true);
-        std::string picked;
-        for (const std::string& c : completions_)
-            if (ImGui::Selectable(c.c_str())) picked = c;
-        ImGui::EndChild();
-        if (!picked.empty()) {
-            open_path_text_ = picked;
-            completions_.clear();
-            if (picked.back() == '/')
-                focus_open_field_ = true;
-            else
-                open_path(picked);
-        }
-        if (!field_active && !ImGui::IsWindowFocused(ImGuiFocusedFlags_ChildWindows) &&
-            ImGui::IsMouseClicked(ImGuiMouseButton_Left) && picked.empty())
-            completions_.clear();
-    }
+    bool open_now = ImGui::Button("Open", ImVec2(-FLT_MIN, 0)) || entered;
+    record("open_button");
+    bool focus_again = false;
+    if (!completion_list("completions", form_.path, completions_, field_active, focus_again)
+             .empty())
+        open_now = true;
+    if (focus_again) focus_open_field_ = true;
+
     if (!settings_.recent_files.empty()) {
         ImGui::SetNextItemWidth(-FLT_MIN);
         if (ImGui::BeginCombo("##recent", "Recent files...")) {
-            for (const std::string& path : settings_.recent_files)
-                if (ImGui::Selectable(path.c_str())) open_path(path);
+            for (const SourceSpec& spec : settings_.recent_files)
+                if (ImGui::Selectable(recent_label(spec).c_str())) open(spec);
             ImGui::EndCombo();
         }
     }
-    if (!can_load_files()) ImGui::TextDisabled("(this build reads phantoms only)");
-    ImGui::Spacing();
+    draw_raw_options();
+    draw_series_list();
+    draw_label_map();
+    if (open_now) open_form();
+}
+
+void App::draw_raw_options() {
+    // Only once there is a file to read (a phantom shown, nothing typed: nothing to say).
+    if (form_.path.empty() && !form_.raw) return;
+    ImGui::Checkbox("Headerless raw data", &form_.raw);
+    record("raw_checkbox");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("A file of bare samples (or a numbered series of slice files): give "
+                          "the grid, the sample type, the byte order and the spacing, then "
+                          "Open.");
+    if (!form_.raw) return;
+    RawOptions& r = form_.raw_options;
+    ImGui::Indent();
+    ImGui::InputInt3("Dims (x y z)", &r.dims.x);
+    record("raw_dims");
+    r.dims = glm::max(r.dims, glm::ivec3(1));
+    if (ImGui::BeginCombo("Sample type", scalar_type_name(r.type))) {
+        for (int t = int(ScalarType::UInt8); t <= int(ScalarType::Float64); ++t)
+            if (ImGui::Selectable(scalar_type_name(ScalarType(t)), ScalarType(t) == r.type))
+                r.type = ScalarType(t);
+        ImGui::EndCombo();
+    }
+    record("raw_type");
+    ImGui::InputFloat3("Spacing (mm)", &r.spacing.x, "%.4g");
+    for (int i = 0; i < 3; ++i)
+        if (!(r.spacing[i] > 0.0f) || !std::isfinite(r.spacing[i])) r.spacing[i] = 1.0f;
+    int big = r.endian == Endian::Big ? 1 : 0;
+    ImGui::RadioButton("little-endian", &big, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("big-endian", &big, 1);
+    r.endian = big ? Endian::Big : Endian::Little;
+    // What the file must hold: the whole grid, or one slice of a numbered series.
+    const std::uintmax_t slice =
+        std::uintmax_t(r.dims.x) * std::uintmax_t(r.dims.y) * scalar_type_size(r.type);
+    const std::uintmax_t whole = slice * std::uintmax_t(r.dims.z);
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(expand_home(form_.path), error);
+    ImGui::PushFont(fonts_.small);
+    if (error)
+        ImGui::TextDisabled("needs %s bytes", render::format_count(whole).c_str());
+    else if (size == whole)
+        ImGui::TextDisabled("the file holds exactly these %s bytes",
+                            render::format_count(whole).c_str());
+    else if (size == slice && r.dims.z > 1)
+        ImGui::TextDisabled("one slice of a numbered series (%s bytes each)",
+                            render::format_count(slice).c_str());
+    else
+        coloured_text(kErrorColor, "needs " + render::format_count(whole) +
+                                       " bytes; the file has " + render::format_count(size));
+    ImGui::PopFont();
+    ImGui::Unindent();
+}
+
+// A label map on the grey image's grid: Open lists its labels (the grey is thresholded until
+// one is picked); picking a label segments it and suggests the iso of its boundary.
+void App::draw_label_map() {
+    const SourceSpec& requested = settings_.parameters.volume;
+    if (requested.is_phantom() && form_.path.empty()) return;
+    // Captions on the left: the two rows belong together, apart from the grey image's path.
+    const float caption_width = ImGui::CalcTextSize("Label map").x + fonts_.size * 0.6f;
+    const float clear_width = ImGui::GetFrameHeight();
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted("Label map");
+    ImGui::SameLine(caption_width);
+    bool focus = false;
+    const bool entered = path_field(
+        "##labels path", "none: threshold the grey", form_.labels, label_completions_,
+        ImGui::GetContentRegionAvail().x - clear_width - ImGui::GetStyle().ItemSpacing.x, focus);
+    record("labels_field");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("A segmentation on the same grid as the grey image (e.g. "
+                          "TotalSegmentator's output): Enter or Open lists its labels; pick one "
+                          "to mesh it. Tab completes the path.");
+    const bool active = ImGui::IsItemActive();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(form_.labels.empty() && requested.labels.empty());
+    if (ImGui::Button("x", ImVec2(-FLT_MIN, 0))) {
+        form_.labels.clear();
+        label_completions_.clear();
+        if (!requested.labels.empty()) {
+            SourceSpec spec = requested;
+            spec.labels.clear();
+            spec.label.reset();
+            open(spec);
+        }
+    }
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("no label map: threshold the grey values");
+    bool focus_again = false;
+    const bool picked =
+        !completion_list("label completions", form_.labels, label_completions_, active, focus_again)
+             .empty();
+    if (entered || picked) open_form();
+
+    // The labels of the map shown (when it is the one asked for).
+    const Source* shown = results_.source.get();
+    if (requested.labels.empty() || !shown || shown->spec.labels != requested.labels) return;
+    const std::vector<LabelEntry>& labels = shown->labels_present;
+    std::string preview = "threshold the grey (no label)";
+    for (const LabelEntry& e : labels)
+        if (requested.label && e.value == *requested.label) preview = label_entry_text(e);
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted("Label");
+    ImGui::SameLine(caption_width);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    if (ImGui::BeginCombo("##label", preview.c_str(), ImGuiComboFlags_HeightLarge)) {
+        static ImGuiTextFilter filter; // one combo open at a time
+        if (labels.size() > 12) {
+            if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+            ImGui::SetNextItemWidth(-FLT_MIN);
+            if (ImGui::InputTextWithHint("##label filter", "type to filter: a number or a name",
+                                         filter.InputBuf, IM_ARRAYSIZE(filter.InputBuf)))
+                filter.Build();
+        }
+        if (ImGui::Selectable("threshold the grey (no label)", !requested.label))
+            choose_label(std::nullopt);
+        for (const LabelEntry& e : labels) {
+            const std::string text = label_entry_text(e);
+            if (!filter.PassFilter(text.c_str())) continue;
+            if (ImGui::Selectable(text.c_str(), requested.label && *requested.label == e.value))
+                choose_label(e.value);
+        }
+        ImGui::EndCombo();
+    }
+    record("label_combo");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%zu labels in the map; the surface is the boundary of the one "
+                          "picked",
+                          labels.size());
+}
+
+void App::draw_series_list() {
+    if (series_.folder.empty()) return;
+    ImGui::PushFont(fonts_.small);
+    if (series_.scanning) {
+        ImGui::TextDisabled("looking for DICOM series in %s...", series_.folder.c_str());
+    } else if (!series_.error.empty()) {
+        coloured_text(kNoteColor, series_.error);
+    }
+    ImGui::PopFont();
+    if (series_.series.empty()) return;
+    const SourceSpec& requested = settings_.parameters.volume;
+    const bool this_folder = requested.input == series_.folder;
+    std::string preview = "largest: " + series_text(series_.series.front());
+    for (const DicomSeries& s : series_.series)
+        if (this_folder && s.uid == requested.series_uid) preview = series_text(s);
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted("Series");
+    ImGui::SameLine(ImGui::CalcTextSize("Label map").x + fonts_.size * 0.6f);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    if (ImGui::BeginCombo("##series", preview.c_str(), ImGuiComboFlags_HeightLarge)) {
+        for (const DicomSeries& s : series_.series)
+            if (ImGui::Selectable(series_text(s).c_str(),
+                                  this_folder && s.uid == requested.series_uid))
+                choose_series(s.uid);
+        ImGui::EndCombo();
+    }
+    record("series_combo");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%zu DICOM series in %s", series_.series.size(), series_.folder.c_str());
 }
 
 void App::draw_iso_section() {
     Parameters& p = settings_.parameters;
     const float width = ImGui::GetContentRegionAvail().x;
     if (results_.source) {
-        const ValueHistogram& h = results_.source->histogram;
+        const Histogram& h = results_.source->histogram;
         if (const auto value = value_histogram_plot("##value histogram", h, p.iso,
                                                     ImVec2(width, 3.6f * fonts_.size), fonts_)) {
             p.iso = *value;
@@ -213,7 +457,7 @@ void App::draw_iso_section() {
         ImGui::SameLine();
         if (ImGui::Checkbox("Suggested", &p.auto_iso) && p.auto_iso) p.iso = results_.iso;
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("phantoms: their own iso; files: Otsu's threshold of the histogram");
+            ImGui::SetTooltip("suggested: %s", results_.source->iso_reason.c_str());
     }
     int inside = p.inside == InsideIs::Above ? 0 : 1;
     ImGui::TextUnformatted("Object is");
@@ -230,10 +474,7 @@ void App::draw_iso_section() {
 void App::draw_relaxation_section() {
     Parameters& p = settings_.parameters;
     RelaxOptions& r = p.relax;
-    enum_combo("Mode", r.mode,
-               {{RelaxMode::Snert, "SNERT"},
-                {RelaxMode::Averaging, "SNA (averaging)"},
-                {RelaxMode::Gradient, "Gradient only"}});
+    name_combo("Mode", r.mode);
     help_marker(
         "SNA: each node moves towards the mean of its neighbours (paper eq. 1-2): "
         "smooth but it shrinks. Gradient: each node moves onto the iso-surface along the "
@@ -248,9 +489,7 @@ void App::draw_relaxation_section() {
     help_marker(
         "Weight of the gradient term d g that pulls nodes onto the iso-surface (eq. 4 / 6).");
     ImGui::BeginDisabled(r.mode != RelaxMode::Snert);
-    enum_combo(
-        "Schedule", r.schedule,
-        {{Schedule::Simultaneous, "both at once"}, {Schedule::SmoothingFirst, "one, then other"}});
+    name_combo("Schedule", r.schedule);
     help_marker("SNERT only: apply both terms in one step, or smooth first and end every "
                 "iteration with the favoured goal.");
     if (r.schedule == Schedule::SmoothingFirst) {
@@ -263,14 +502,11 @@ void App::draw_relaxation_section() {
         r.favour_accuracy = favour == 0;
     }
     ImGui::EndDisabled();
-    enum_combo("Constraint", r.constraint,
-               {{Constraint::RayBox, "ray-box"}, {Constraint::Clip, "clip x, y, z"}});
+    name_combo("Constraint", r.constraint);
     help_marker("Every node stays inside its own cell: ray-box shortens the move along its own "
                 "direction; clipping each coordinate is the original SurfaceNet's rule.");
     ImGui::BeginDisabled(r.mode == RelaxMode::Averaging);
-    enum_combo(
-        "Gradient of", r.gradient,
-        {{GradientMethod::Central, "central diff."}, {GradientMethod::Gaussian, "Gaussian"}});
+    name_combo("Gradient of", r.gradient);
     help_marker("How the grey-value gradient is estimated; a Gaussian derivative (sigma in "
                 "voxels) is steadier on noisy data.");
     if (r.gradient == GradientMethod::Gaussian)
@@ -284,9 +520,7 @@ void App::draw_relaxation_section() {
     ImGui::SliderFloat("Epsilon", &r.epsilon, 1e-6f, 1e-1f, "%.1e voxels",
                        ImGuiSliderFlags_Logarithmic);
     help_marker("Convergence: stop when no node moves farther than this in an iteration.");
-    enum_combo("Triangles", p.triangulation,
-               {{TriangulationRule::ShorterDiagonal, "shorter diagonal"},
-                {TriangulationRule::Delaunay, "Delaunay"}});
+    name_combo("Triangles", p.triangulation);
     help_marker("Each quad of the net is split into two triangles along its shorter diagonal, or "
                 "by the Delaunay criterion.");
     if (ImGui::Button("Default parameters")) {
@@ -378,7 +612,8 @@ void App::draw_bottom_panel(float height) {
 
 void App::draw_quality_tab() {
     std::vector<render::PanelMethod> methods;
-    if (results_.mc) methods.push_back({Method::MarchingCubes, "Marching Cubes", &results_.mc->metrics});
+    if (results_.mc)
+        methods.push_back({Method::MarchingCubes, "Marching Cubes", &results_.mc->metrics});
     // The frame's mesh is measured alone; where the relaxation stands at that iteration comes
     // from the iteration history.
     MethodMetrics frame_metrics;
@@ -390,10 +625,10 @@ void App::draw_quality_tab() {
             frame_metrics.final_max_move = results_.iterations[std::size_t(k)].max_move;
         frame_metrics.converged =
             results_.finished && results_.finished->converged && k == results_.finished->iterations;
-        methods.push_back({results_.frame->method,
-                           std::string(label_of(results_.frame->method)) + ", iteration " +
-                               std::to_string(k),
-                           &frame_metrics});
+        methods.push_back(
+            {results_.frame->method,
+             std::string(label_of(results_.frame->method)) + ", iteration " + std::to_string(k),
+             &frame_metrics});
     }
     if (methods.empty()) {
         ImGui::TextDisabled("  the histograms and the metrics appear when the meshes are ready");

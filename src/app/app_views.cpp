@@ -46,6 +46,32 @@ void tag(ImDrawList* draw, ImFont* font, ImVec2 at, ImU32 color, const std::stri
     draw->AddText(font, font->FontSize, at, color, text.c_str());
 }
 
+Action shading_action(render::Shading shading) {
+    switch (shading) {
+    case render::Shading::Flat:
+        return Action::ShadingFlat;
+    case render::Shading::Smooth:
+        return Action::ShadingSmooth;
+    case render::Shading::Quality:
+        break;
+    }
+    return Action::ShadingQuality;
+}
+
+Action preset_action(render::ViewPreset preset) {
+    switch (preset) {
+    case render::ViewPreset::Front:
+        return Action::ViewFront;
+    case render::ViewPreset::Side:
+        return Action::ViewSide;
+    case render::ViewPreset::Top:
+        return Action::ViewTop;
+    case render::ViewPreset::Iso:
+        break;
+    }
+    return Action::ViewIso;
+}
+
 } // namespace
 
 void App::draw_main_area(float width, float height) {
@@ -69,18 +95,13 @@ void App::draw_toolbar() {
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted("Shading");
     ImGui::SameLine();
-    struct Choice {
-        const char* name;
-        const char* label;
-        Action action;
-    };
-    for (const Choice& c : {Choice{"flat", "Flat", Action::ShadingFlat},
-                            Choice{"smooth", "Smooth", Action::ShadingSmooth},
-                            Choice{"quality", "Quality colours", Action::ShadingQuality}}) {
-        if (ImGui::RadioButton(c.label, view.shading == c.name)) perform(c.action);
+    for (const Named<render::Shading>& row : name_table(render::Shading{})) {
+        const Action action = shading_action(row.value);
+        if (ImGui::RadioButton(std::string(row.label).c_str(), view.shading == row.name))
+            perform(action);
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("%s  (%s)", shortcut_for(c.action).description,
-                              shortcut_for(c.action).keys);
+            ImGui::SetTooltip("%s  (%s)", shortcut_for(action).description,
+                              shortcut_for(action).keys);
         ImGui::SameLine();
     }
     ImGui::Checkbox("Wireframe", &view.wireframe);
@@ -97,18 +118,12 @@ void App::draw_toolbar() {
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted("Camera");
     ImGui::SameLine();
-    struct Preset {
-        const char* name;
-        const char* label;
-        Action action;
-    };
-    for (const Preset& p :
-         {Preset{"front", "Front", Action::ViewFront}, Preset{"side", "Side", Action::ViewSide},
-          Preset{"top", "Top", Action::ViewTop}, Preset{"iso", "Iso", Action::ViewIso}}) {
-        if (ImGui::Button(p.label)) perform(p.action);
+    for (const Named<render::ViewPreset>& row : name_table(render::ViewPreset{})) {
+        const Action action = preset_action(row.value);
+        if (ImGui::Button(std::string(row.label).c_str())) perform(action);
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("%s  (%s)", shortcut_for(p.action).description,
-                              shortcut_for(p.action).keys);
+            ImGui::SetTooltip("%s  (%s)", shortcut_for(action).description,
+                              shortcut_for(action).keys);
         ImGui::SameLine();
     }
     if (ImGui::Button("Reset")) reset_camera();

@@ -93,7 +93,9 @@ bool HeadlessApp::run_until(const std::function<bool(const App&)>& done, double 
     while (std::chrono::steady_clock::now() < deadline) {
         frame();
         if (done(*app_)) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        // At most about 60 frames a second, as a window with vsync draws: software GL draws
+        // every frame on the CPUs the worker needs.
+        std::this_thread::sleep_for(std::chrono::milliseconds(16));
     }
     return false;
 }

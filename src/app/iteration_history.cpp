@@ -1,8 +1,7 @@
 // The relaxation's history under a memory budget: keyframes, and recomputation from them.
 //
-// Recomputation replays exactly what relax() does for one iteration (relax_step from the old
-// positions into a second buffer), so iteration k recomputed from keyframe j equals the
-// relaxation's own iteration k bit for bit.
+// Recomputation is relax() started from keyframe j (RelaxStart), so iteration k recomputed from
+// it equals the relaxation's own iteration k bit for bit.
 #include "iteration_history.h"
 
 #include <stdexcept>
@@ -14,10 +13,11 @@ namespace snert::app {
 
 IterationHistory::IterationHistory(std::shared_ptr<const RelaxContext> context,
                                    std::size_t budget_bytes)
-    : context_(std::move(context)), budget_bytes_(budget_bytes), latest_(context_->net.positions) {}
+    : context_(std::move(context)), budget_bytes_(budget_bytes), latest_(context_->net->positions) {
+}
 
 std::size_t IterationHistory::frame_bytes() const {
-    return context_->net.positions.size() * sizeof(glm::vec3);
+    return context_->net->positions.size() * sizeof(glm::vec3);
 }
 
 std::span<const glm::vec3> IterationHistory::latest() const {
@@ -25,10 +25,10 @@ std::span<const glm::vec3> IterationHistory::latest() const {
 }
 
 void IterationHistory::append(std::span<const glm::vec3> positions) {
-    if (positions.size() != context_->net.positions.size())
+    if (positions.size() != context_->net->positions.size())
         throw std::invalid_argument("iteration history: " + std::to_string(positions.size()) +
                                     " positions for a net of " +
-                                    std::to_string(context_->net.positions.size()) + " nodes");
+                                    std::to_string(context_->net->positions.size()) + " nodes");
     ++latest_iteration_;
     latest_.assign(positions.begin(), positions.end());
     if (latest_iteration_ % stride_ == 0) {
@@ -63,13 +63,13 @@ std::vector<glm::vec3> IterationHistory::positions(int k, const std::stop_token&
         throw std::out_of_range("iteration " + std::to_string(k) + " not in [0, " +
                                 std::to_string(latest_iteration_) + "]");
     last_recomputed_steps_ = 0;
-    if (k == 0) return context_->net.positions;
+    if (k == 0) return context_->net->positions;
     if (k == latest_iteration_) return latest_;
     if (const auto it = frames_.find(k); it != frames_.end()) return it->second;
 
     // The nearest start at or below k: a keyframe, the scratch frame, or the initial net.
     int start = 0;
-    const std::vector<glm::vec3>* from = &context_->net.positions;
+    const std::vector<glm::vec3>* from = &context_->net->positions;
     if (auto it = frames_.upper_bound(k); it != frames_.begin()) {
         --it;
         start = it->first;
@@ -81,18 +81,19 @@ std::vector<glm::vec3> IterationHistory::positions(int k, const std::stop_token&
         from = &scratch_;
     }
 
-    std::vector<glm::vec3> current = *from;
-    std::vector<glm::vec3> next(current.size());
+    // Iterations start + 1 .. k, whatever their moves (epsilon 0: the relaxation that made them
+    // did not stop before k either).
     const RelaxContext& c = *context_;
-    for (int it = start; it < k; ++it) {
-        if (stop.stop_requested()) throw Cancelled();
-        relax_step(c.net, &c.grey, c.options, it + 1, current, next);
-        current.swap(next);
-        ++last_recomputed_steps_;
-    }
+    RelaxOptions options = c.options;
+    options.max_iterations = k;
+    options.epsilon = 0.0f;
+    Progress progress;
+    progress.stop = stop;
+    RelaxResult redone = relax(*c.net, c.grey.get(), options, {}, progress, {*from, start});
+    last_recomputed_steps_ = int(redone.max_moves.size());
     scratch_iteration_ = k;
-    scratch_ = current;
-    return current;
+    scratch_ = redone.positions;
+    return std::move(redone.positions);
 }
 
 } // namespace snert::app

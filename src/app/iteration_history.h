@@ -6,7 +6,7 @@
 // positions fit in the budget every iteration is kept; beyond it the history keeps only
 // keyframes, every `stride` iterations, doubling the stride (and dropping the frames that are no
 // longer on it) each time the budget is exceeded again. Any iteration can still be had:
-// positions(k) recomputes it from the nearest keyframe at or below k with relax_step, which is
+// positions(k) recomputes it from the nearest keyframe at or below k with relax(), which is
 // deterministic, so the recomputed positions equal the ones the relaxation produced bit for bit.
 // The latest iteration is always kept as well (the app shows it while the relaxation runs), and
 // the initial positions come from the net itself, so they cost nothing.
@@ -33,12 +33,13 @@
 
 namespace snert::app {
 
-// Everything relax_step needs to redo an iteration. `grey.volume` points into `volume`, which
-// the context keeps alive.
+// Everything relax() needs to redo or continue iterations: the net and the gradient field as
+// the pipeline made them (core/pipeline.h, NetObserver). `grey->volume` points into `volume`,
+// which the context keeps alive.
 struct RelaxContext {
     std::shared_ptr<const Volume> volume;
-    SurfaceNet net;
-    GreyField grey;
+    std::shared_ptr<const SurfaceNet> net;
+    std::shared_ptr<const GreyField> grey;
     RelaxOptions options;
 };
 

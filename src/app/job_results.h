@@ -17,9 +17,9 @@
 namespace snert::app {
 
 struct JobResults {
-    std::uint64_t generation = 0;               // the job these results follow
-    std::shared_ptr<const SourceVolume> source; // the volume (and its histogram)
-    float iso = 0.0f;                           // the iso the job uses
+    std::uint64_t generation = 0;         // the job these results follow
+    std::shared_ptr<const Source> source; // the input (volume, mask, histogram, ...)
+    float iso = 0.0f;                     // the iso the job uses
     bool analytic_reference = false;
     std::shared_ptr<const DisplayMesh> mc; // Marching Cubes
     std::optional<NetMessage> net;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -184,31 +185,32 @@ std::optional<int> convergence_plot(const char* id, const ConvergencePlot& plot,
     return std::nullopt;
 }
 
-std::optional<float> value_histogram_plot(const char* id, const ValueHistogram& histogram,
-                                          float iso, ImVec2 size,
-                                          const render::FigureFonts& fonts) {
+std::optional<float> value_histogram_plot(const char* id, const Histogram& histogram, float iso,
+                                          ImVec2 size, const render::FigureFonts& fonts) {
     const Area area = place(id, size);
     ImDrawList* draw = ImGui::GetWindowDrawList();
     draw->AddRectFilled(area.min, area.max, kPlotBackground);
     draw->AddRect(area.min, area.max, kFrame);
     const std::size_t bins = histogram.counts.size();
-    const float range = histogram.hi - histogram.lo;
+    // double: hi - lo can exceed the float range (core/volume_stats.h).
+    const double range = double(histogram.hi) - double(histogram.lo);
     if (bins == 0) return std::nullopt;
 
     // Logarithmic heights: a CT's air and soft tissue peaks would hide everything else.
     float top = 0;
-    for (float c : histogram.counts) top = std::max(top, std::log1p(c));
+    for (const std::uint64_t c : histogram.counts) top = std::max(top, std::log1p(float(c)));
     const float inner_min_y = area.min.y + 2, inner_max_y = area.max.y - 1;
     const float bar = (area.max.x - area.min.x) / float(bins);
     for (std::size_t i = 0; i < bins; ++i) {
-        const float h = top > 0 ? std::log1p(histogram.counts[i]) / top : 0;
+        const float h = top > 0 ? std::log1p(float(histogram.counts[i])) / top : 0;
         if (h <= 0) continue;
         const float x0 = area.min.x + bar * float(i), x1 = x0 + std::max(bar, 1.0f);
         draw->AddRectFilled(ImVec2(x0, inner_max_y - h * (inner_max_y - inner_min_y)),
                             ImVec2(x1, inner_max_y), IM_COL32(120, 130, 150, 255));
     }
     auto x_of = [&](float v) {
-        return range > 0 ? area.min.x + (area.max.x - area.min.x) * (v - histogram.lo) / range
+        return range > 0 ? area.min.x + float(double(area.max.x - area.min.x) *
+                                              (double(v) - double(histogram.lo)) / range)
                          : area.min.x;
     };
     const float x = std::clamp(x_of(iso), area.min.x, area.max.x);
@@ -224,7 +226,7 @@ std::optional<float> value_histogram_plot(const char* id, const ValueHistogram& 
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     const float t =
         std::clamp((mouse.x - area.min.x) / std::max(area.max.x - area.min.x, 1.0f), 0.0f, 1.0f);
-    const float value = histogram.lo + t * range;
+    const float value = float(double(histogram.lo) + double(t) * range);
     if (area.hovered) {
         ImGui::BeginTooltip();
         ImGui::Text("value %s", number(value).c_str());

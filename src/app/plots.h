@@ -10,7 +10,7 @@
 #include <imgui.h>
 
 #include "render/fonts.h"
-#include "volume_source.h"
+#include "core/volume_stats.h"
 
 namespace snert::app {
 
@@ -32,7 +32,7 @@ std::optional<int> convergence_plot(const char* id, const ConvergencePlot& plot,
 
 // The volume's value histogram (logarithmic counts) with a line at `iso`. Returns the value
 // under the mouse while the left button is pressed on it.
-std::optional<float> value_histogram_plot(const char* id, const ValueHistogram& histogram,
-                                          float iso, ImVec2 size, const render::FigureFonts& fonts);
+std::optional<float> value_histogram_plot(const char* id, const Histogram& histogram, float iso,
+                                          ImVec2 size, const render::FigureFonts& fonts);
 
 } // namespace snert::app

@@ -9,7 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
+#include <string_view>
+
+#include <glm/glm.hpp>
 
 #include "io/atomic_file.h"
 
@@ -21,6 +25,7 @@ struct Field {
     const char* key;
     std::function<std::string(const Settings&)> get;
     std::function<bool(Settings&, const std::string&)> set; // false: value not accepted
+    bool optional = false; // not written when get() is empty (an option that is not set)
 };
 
 bool parse_float(const std::string& text, float& out) {
@@ -77,24 +82,13 @@ template <class Member> Field bool_field(const char* key, Member member) {
             }};
 }
 
-// An enum (or string) field with its names.
-template <class T, class Member>
-Field choice_field(const char* key, Member member, std::vector<std::pair<T, const char*>> names) {
-    return {key,
-            [member, names](const Settings& s) {
-                const T value = member(s);
-                for (const auto& [v, name] : names)
-                    if (v == value) return std::string(name);
-                return std::string(names.front().second);
-            },
-            [member, names](Settings& s, const std::string& text) {
-                for (const auto& [v, name] : names) {
-                    if (text == name) {
-                        member(s) = v;
-                        return true;
-                    }
-                }
-                return false;
+// An enum field, stored by its name (core/names.h).
+template <class E, class Member> Field choice_field(const char* key, Member member) {
+    return {key, [member](const Settings& s) { return std::string(name_of(member(s))); },
+            [member](Settings& s, const std::string& text) {
+                const std::optional<E> value = parse_name<E>(text);
+                if (value) member(s) = *value;
+                return value.has_value();
             }};
 }
 
@@ -110,6 +104,122 @@ Field string_field(const char* key, Member member, std::vector<std::string> allo
             }};
 }
 
+// "64,64,32" / "1,1,2.5": three values joined by commas, as on the command line (--raw).
+template <class V, class Parse> bool parse_triple(const std::string& text, V& out, Parse parse) {
+    V value{};
+    std::size_t start = 0;
+    for (int i = 0; i < 3; ++i) {
+        const std::size_t end = i < 2 ? text.find(',', start) : text.size();
+        if (end == std::string::npos) return false;
+        if (!parse(text.substr(start, end - start), value[i])) return false;
+        start = end + 1;
+    }
+    out = value;
+    return true;
+}
+
+template <class V, class Format> std::string triple_text(const V& v, Format format) {
+    return format(v[0]) + "," + format(v[1]) + "," + format(v[2]);
+}
+
+const char* endian_name(Endian endian) {
+    return endian == Endian::Big ? "big" : "little";
+}
+
+// One option of an input (SourceSpec): its text, empty when the option is not set.
+struct SpecField {
+    const char* key;
+    std::function<std::string(const SourceSpec&)> get;
+    std::function<bool(SourceSpec&, const std::string&)> set; // false: value not accepted
+};
+
+// The raw options, created (with the defaults) by the first raw_* key that is read.
+RawOptions& raw_of(SourceSpec& spec) {
+    if (!spec.raw) spec.raw.emplace();
+    return *spec.raw;
+}
+
+// The options of an input beyond its path and phantom size, in the order they are written.
+const std::vector<SpecField>& spec_fields() {
+    static const std::vector<SpecField> table = {
+        {"raw",
+         [](const SourceSpec& s) {
+             return s.raw ? triple_text(s.raw->dims, [](int v) { return std::to_string(v); })
+                          : std::string();
+         },
+         [](SourceSpec& s, const std::string& text) {
+             return parse_triple(text, raw_of(s).dims, [](const std::string& t, int& v) {
+                 return parse_int(t, v) && v >= 1;
+             });
+         }},
+        {"raw_type",
+         [](const SourceSpec& s) {
+             return s.raw ? std::string(scalar_type_name(s.raw->type)) : std::string();
+         },
+         [](SourceSpec& s, const std::string& text) {
+             try {
+                 const ScalarType type = parse_scalar_type(text);
+                 raw_of(s).type = type;
+                 return true;
+             } catch (const std::invalid_argument&) {
+                 return false;
+             }
+         }},
+        {"raw_spacing",
+         [](const SourceSpec& s) {
+             return s.raw ? triple_text(s.raw->spacing, float_text) : std::string();
+         },
+         [](SourceSpec& s, const std::string& text) {
+             return parse_triple(text, raw_of(s).spacing, [](const std::string& t, float& v) {
+                 return parse_float(t, v) && v > 0.0f;
+             });
+         }},
+        {"raw_endian",
+         [](const SourceSpec& s) {
+             return s.raw ? std::string(endian_name(s.raw->endian)) : std::string();
+         },
+         [](SourceSpec& s, const std::string& text) {
+             if (text != "little" && text != "big") return false;
+             raw_of(s).endian = text == "big" ? Endian::Big : Endian::Little;
+             return true;
+         }},
+        {"series", [](const SourceSpec& s) { return s.series_uid; },
+         [](SourceSpec& s, const std::string& text) {
+             s.series_uid = text;
+             return true;
+         }},
+        {"labels", [](const SourceSpec& s) { return s.labels; },
+         [](SourceSpec& s, const std::string& text) {
+             s.labels = text;
+             return true;
+         }},
+        {"label", [](const SourceSpec& s) { return s.label ? std::to_string(*s.label) : ""; },
+         [](SourceSpec& s, const std::string& text) {
+             int v = 0;
+             if (!parse_int(text, v)) return false;
+             s.label = v;
+             return true;
+         }},
+    };
+    return table;
+}
+
+// Raw options without their dimensions (a raw_type line alone) cannot be read: dropped.
+void drop_incomplete_raw(SourceSpec& spec) {
+    if (spec.raw && glm::any(glm::lessThan(spec.raw->dims, glm::ivec3(1)))) spec.raw.reset();
+}
+
+// The settings' fields of the current input's options.
+std::vector<Field> volume_option_fields() {
+    std::vector<Field> fields;
+    for (const SpecField& f : spec_fields())
+        fields.push_back(
+            {f.key, [f](const Settings& s) { return f.get(s.parameters.volume); },
+             [f](Settings& s, const std::string& text) { return f.set(s.parameters.volume, text); },
+             true});
+    return fields;
+}
+
 // Accessor of one member, usable on a const and a mutable Settings.
 #define SNERT_MEMBER(expr)                                                                         \
     [](auto& s) -> auto& {                                                                         \
@@ -117,51 +227,51 @@ Field string_field(const char* key, Member member, std::vector<std::string> allo
     }
 
 const std::vector<Field>& fields() {
-    static const std::vector<Field> table = {
-        string_field("volume", SNERT_MEMBER(parameters.volume.input)),
-        int_field("phantom_size", SNERT_MEMBER(parameters.volume.phantom_size), 8, 1024),
-        bool_field("auto_iso", SNERT_MEMBER(parameters.auto_iso)),
-        float_field("iso", SNERT_MEMBER(parameters.iso), -1e30f, 1e30f),
-        choice_field<InsideIs>("inside", SNERT_MEMBER(parameters.inside),
-                               {{InsideIs::Above, "above"}, {InsideIs::Below, "below"}}),
-        choice_field<RelaxMode>("mode", SNERT_MEMBER(parameters.relax.mode),
-                                {{RelaxMode::Snert, "snert"},
-                                 {RelaxMode::Averaging, "sna"},
-                                 {RelaxMode::Gradient, "gradient"}}),
-        float_field("smoothing_weight", SNERT_MEMBER(parameters.relax.smoothing_weight), 0, 10),
-        float_field("gradient_weight", SNERT_MEMBER(parameters.relax.gradient_weight), 0, 10),
-        choice_field<Schedule>("schedule", SNERT_MEMBER(parameters.relax.schedule),
-                               {{Schedule::Simultaneous, "simultaneous"},
-                                {Schedule::SmoothingFirst, "smoothing-first"}}),
-        bool_field("favour_accuracy", SNERT_MEMBER(parameters.relax.favour_accuracy)),
-        choice_field<Constraint>("constraint", SNERT_MEMBER(parameters.relax.constraint),
-                                 {{Constraint::RayBox, "raybox"}, {Constraint::Clip, "clip"}}),
-        choice_field<GradientMethod>(
-            "gradient", SNERT_MEMBER(parameters.relax.gradient),
-            {{GradientMethod::Central, "central"}, {GradientMethod::Gaussian, "gaussian"}}),
-        float_field("sigma", SNERT_MEMBER(parameters.relax.gradient_sigma), 0.1f, 10),
-        int_field("iterations", SNERT_MEMBER(parameters.relax.max_iterations), 0, 100000),
-        float_field("epsilon", SNERT_MEMBER(parameters.relax.epsilon), 0, 1),
-        choice_field<TriangulationRule>("triangulation", SNERT_MEMBER(parameters.triangulation),
-                                        {{TriangulationRule::ShorterDiagonal, "shorter"},
-                                         {TriangulationRule::Delaunay, "delaunay"}}),
-        string_field("shading", SNERT_MEMBER(view.shading), {"flat", "smooth", "quality"}),
-        bool_field("wireframe", SNERT_MEMBER(view.wireframe)),
-        float_field("quality_threshold", SNERT_MEMBER(view.quality_threshold), 0, 1),
-        string_field("view", SNERT_MEMBER(view.preset), {"front", "side", "top", "iso"}),
-        int_field("window_width", SNERT_MEMBER(layout.window_width), 320, 16384),
-        int_field("window_height", SNERT_MEMBER(layout.window_height), 240, 16384),
-        int_field("window_x", SNERT_MEMBER(layout.window_x), -1, 65535),
-        int_field("window_y", SNERT_MEMBER(layout.window_y), -1, 65535),
-        float_field("side_panel_width", SNERT_MEMBER(layout.side_panel_width), 150, 2000),
-        float_field("bottom_panel_height", SNERT_MEMBER(layout.bottom_panel_height), 80, 2000),
-        bool_field("show_side_panel", SNERT_MEMBER(layout.show_side_panel)),
-        bool_field("show_bottom_panel", SNERT_MEMBER(layout.show_bottom_panel)),
-        int_field("bottom_tab", SNERT_MEMBER(layout.bottom_tab), 0, 1),
-        float_field("ui_scale", SNERT_MEMBER(layout.ui_scale), 0.5f, 3),
-        float_field("play_speed", SNERT_MEMBER(play_speed), 0.5f, 240),
-        int_field("history_budget_mb", SNERT_MEMBER(history_budget_mb), 0, 1 << 20),
-    };
+    static const std::vector<Field> table = [] {
+        std::vector<Field> t = {
+            string_field("volume", SNERT_MEMBER(parameters.volume.input)),
+            int_field("phantom_size", SNERT_MEMBER(parameters.volume.phantom_size), 8, 1024),
+        };
+        for (Field& f : volume_option_fields()) t.push_back(std::move(f));
+        for (Field& f : std::vector<Field>{
+                 bool_field("auto_iso", SNERT_MEMBER(parameters.auto_iso)),
+                 float_field("iso", SNERT_MEMBER(parameters.iso), -1e30f, 1e30f),
+                 choice_field<InsideIs>("inside", SNERT_MEMBER(parameters.inside)),
+                 choice_field<RelaxMode>("mode", SNERT_MEMBER(parameters.relax.mode)),
+                 float_field("smoothing_weight", SNERT_MEMBER(parameters.relax.smoothing_weight), 0,
+                             10),
+                 float_field("gradient_weight", SNERT_MEMBER(parameters.relax.gradient_weight), 0,
+                             10),
+                 choice_field<Schedule>("schedule", SNERT_MEMBER(parameters.relax.schedule)),
+                 bool_field("favour_accuracy", SNERT_MEMBER(parameters.relax.favour_accuracy)),
+                 choice_field<Constraint>("constraint", SNERT_MEMBER(parameters.relax.constraint)),
+                 choice_field<GradientMethod>("gradient", SNERT_MEMBER(parameters.relax.gradient)),
+                 float_field("sigma", SNERT_MEMBER(parameters.relax.gradient_sigma), 0.1f, 10),
+                 int_field("iterations", SNERT_MEMBER(parameters.relax.max_iterations), 0, 100000),
+                 float_field("epsilon", SNERT_MEMBER(parameters.relax.epsilon), 0, 1),
+                 choice_field<TriangulationRule>("triangulation",
+                                                 SNERT_MEMBER(parameters.triangulation)),
+                 string_field("shading", SNERT_MEMBER(view.shading), {"flat", "smooth", "quality"}),
+                 bool_field("wireframe", SNERT_MEMBER(view.wireframe)),
+                 float_field("quality_threshold", SNERT_MEMBER(view.quality_threshold), 0, 1),
+                 string_field("view", SNERT_MEMBER(view.preset), {"front", "side", "top", "iso"}),
+                 int_field("window_width", SNERT_MEMBER(layout.window_width), 320, 16384),
+                 int_field("window_height", SNERT_MEMBER(layout.window_height), 240, 16384),
+                 int_field("window_x", SNERT_MEMBER(layout.window_x), -1, 65535),
+                 int_field("window_y", SNERT_MEMBER(layout.window_y), -1, 65535),
+                 float_field("side_panel_width", SNERT_MEMBER(layout.side_panel_width), 150, 2000),
+                 float_field("bottom_panel_height", SNERT_MEMBER(layout.bottom_panel_height), 80,
+                             2000),
+                 bool_field("show_side_panel", SNERT_MEMBER(layout.show_side_panel)),
+                 bool_field("show_bottom_panel", SNERT_MEMBER(layout.show_bottom_panel)),
+                 int_field("bottom_tab", SNERT_MEMBER(layout.bottom_tab), 0, 1),
+                 float_field("ui_scale", SNERT_MEMBER(layout.ui_scale), 0.5f, 3),
+                 float_field("play_speed", SNERT_MEMBER(play_speed), 0.5f, 240),
+                 int_field("history_budget_mb", SNERT_MEMBER(history_budget_mb), 0, 1 << 20),
+             })
+            t.push_back(std::move(f));
+        return t;
+    }();
     return table;
 }
 
@@ -172,14 +282,6 @@ std::string trim(const std::string& text) {
     if (first == std::string::npos) return {};
     const auto last = text.find_last_not_of(" \t\r");
     return text.substr(first, last - first + 1);
-}
-
-bool same_relax(const RelaxOptions& a, const RelaxOptions& b) {
-    return a.mode == b.mode && a.smoothing_weight == b.smoothing_weight &&
-           a.gradient_weight == b.gradient_weight && a.schedule == b.schedule &&
-           a.favour_accuracy == b.favour_accuracy && a.constraint == b.constraint &&
-           a.gradient == b.gradient && a.gradient_sigma == b.gradient_sigma && a.iso == b.iso &&
-           a.max_iterations == b.max_iterations && a.epsilon == b.epsilon;
 }
 
 } // namespace
@@ -196,16 +298,48 @@ JobRequest Parameters::request() const {
 
 bool Parameters::operator==(const Parameters& other) const {
     return volume == other.volume && auto_iso == other.auto_iso && iso == other.iso &&
-           inside == other.inside && same_relax(relax, other.relax) &&
-           triangulation == other.triangulation;
+           inside == other.inside && relax == other.relax && triangulation == other.triangulation;
 }
 
-void Settings::add_recent(const std::string& path) {
-    if (path.empty()) return;
-    recent_files.erase(std::remove(recent_files.begin(), recent_files.end(), path),
+void Settings::add_recent(const SourceSpec& spec) {
+    if (spec.input.empty() || spec.is_phantom()) return;
+    recent_files.erase(std::remove(recent_files.begin(), recent_files.end(), spec),
                        recent_files.end());
-    recent_files.insert(recent_files.begin(), path);
+    recent_files.insert(recent_files.begin(), spec);
     if (recent_files.size() > kMaxRecent) recent_files.resize(kMaxRecent);
+}
+
+namespace {
+constexpr std::string_view kLineSeparator = " | ";
+} // namespace
+
+std::string format_source_line(const SourceSpec& spec) {
+    std::string line = spec.input;
+    for (const SpecField& f : spec_fields())
+        if (const std::string value = f.get(spec); !value.empty())
+            line += std::string(kLineSeparator) + f.key + "=" + value;
+    return line;
+}
+
+std::optional<SourceSpec> parse_source_line(const std::string& line) {
+    SourceSpec spec;
+    std::size_t at = line.find(kLineSeparator);
+    spec.input = trim(line.substr(0, at));
+    if (spec.input.empty()) return std::nullopt;
+    while (at != std::string::npos) {
+        const std::size_t start = at + kLineSeparator.size();
+        at = line.find(kLineSeparator, start);
+        const std::string item = line.substr(start, at == std::string::npos ? at : at - start);
+        const auto equals = item.find('=');
+        if (equals == std::string::npos) return std::nullopt;
+        const std::string key = trim(item.substr(0, equals));
+        const auto f = std::find_if(spec_fields().begin(), spec_fields().end(),
+                                    [&](const SpecField& sf) { return key == sf.key; });
+        if (f == spec_fields().end() || !f->set(spec, trim(item.substr(equals + 1))))
+            return std::nullopt;
+    }
+    if (spec.raw && glm::any(glm::lessThan(spec.raw->dims, glm::ivec3(1)))) return std::nullopt;
+    return spec;
 }
 
 std::string default_settings_path() {
@@ -229,8 +363,11 @@ Settings parse_settings(const std::string& text) {
         const std::string key = trim(line.substr(0, equals));
         const std::string value = trim(line.substr(equals + 1));
         if (key == "recent") {
-            if (!value.empty() && s.recent_files.size() < Settings::kMaxRecent)
-                s.recent_files.push_back(value);
+            const std::optional<SourceSpec> spec = parse_source_line(value);
+            if (spec && s.recent_files.size() < Settings::kMaxRecent &&
+                std::find(s.recent_files.begin(), s.recent_files.end(), *spec) ==
+                    s.recent_files.end())
+                s.recent_files.push_back(*spec);
             continue;
         }
         for (const Field& f : fields()) {
@@ -240,6 +377,7 @@ Settings parse_settings(const std::string& text) {
             }
         }
     }
+    drop_incomplete_raw(s.parameters.volume);
     return s;
 }
 
@@ -247,8 +385,12 @@ std::string format_settings(const Settings& settings) {
     std::ostringstream out;
     out << "# snert settings: written by the app on exit; unknown keys and bad values are "
            "ignored\n";
-    for (const Field& f : fields()) out << f.key << " = " << f.get(settings) << "\n";
-    for (const std::string& path : settings.recent_files) out << "recent = " << path << "\n";
+    for (const Field& f : fields()) {
+        const std::string value = f.get(settings);
+        if (!f.optional || !value.empty()) out << f.key << " = " << value << "\n";
+    }
+    for (const SourceSpec& spec : settings.recent_files)
+        out << "recent = " << format_source_line(spec) << "\n";
     return out.str();
 }
 

@@ -1,24 +1,29 @@
-// What the app remembers between runs: the parameters, the view options, the layout and the
-// recent files, as a small text file (key = value lines) in the user's configuration folder.
+// What the app remembers between runs: the parameters (with the whole input: file, raw options,
+// DICOM series, label map and label), the view options, the layout and the recent inputs, as a
+// small text file (key = value lines) in the user's configuration folder. The app stores only
+// inputs that loaded, so a bad file never becomes the next session's start.
 //
-// GL-free: view options are stored by name ("smooth", "iso") and parsed by the app.
+// GL-free: enums and view options are stored by their names (core/names.h: "snert", "raybox";
+// the renderer's "smooth", "iso") and parsed by the app.
 // Reading never fails: a missing file gives the defaults, and an unknown key or a bad value is
 // skipped (the rest of the file still applies), so an old or hand-edited file cannot stop the
 // app from starting. Writing is atomic (io/atomic_file.h).
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "io/source.h"
 #include "worker.h"
 
 namespace snert::app {
 
 // The pipeline's parameters as the panel edits them (DESIGN.md).
 struct Parameters {
-    VolumeSpec volume{"phantom:two-spheres", 64};
-    bool auto_iso = true; // use the volume's suggested iso (the phantom's, or Otsu's)
+    SourceSpec volume{"phantom:two-spheres", 64};
+    bool auto_iso = true; // use the input's suggested iso (the phantom's, a label's, Otsu's)
     float iso = 0.0f;     // used when !auto_iso
     InsideIs inside = InsideIs::Above;
     RelaxOptions relax; // mode, weights, schedule, constraint, gradient, iterations, eps
@@ -50,14 +55,23 @@ struct Settings {
     Parameters parameters;
     ViewSettings view;
     LayoutSettings layout;
-    std::vector<std::string> recent_files; // newest first, at most kMaxRecent
-    float play_speed = 10.0f;              // iterations per second while playing
-    int history_budget_mb = 256;           // memory for stored iterations
+    std::vector<SourceSpec> recent_files; // inputs that loaded (files, not phantoms), newest
+                                          // first, at most kMaxRecent
+    float play_speed = 10.0f;             // iterations per second while playing
+    int history_budget_mb = 256;          // memory for stored iterations
 
     static constexpr std::size_t kMaxRecent = 10;
-    // Puts `path` first in recent_files (removing an older entry of it), keeping kMaxRecent.
-    void add_recent(const std::string& path);
+    // Puts `spec` first in recent_files (removing an equal older entry), keeping kMaxRecent.
+    void add_recent(const SourceSpec& spec);
 };
+
+// One input on one line, as the settings file keeps its recent inputs: the path, then
+// " | key=value" for each option that is set, named as on the command line (raw=64,64,32,
+// raw_type=uint16, raw_spacing=1,1,2.5, raw_endian=big, series=UID, labels=PATH, label=5); the
+// current input is stored under the same keys. A plain path reads back as itself.
+// parse_source_line gives nothing for an empty line or a bad option.
+std::string format_source_line(const SourceSpec& spec);
+std::optional<SourceSpec> parse_source_line(const std::string& line);
 
 // The settings file: $XDG_CONFIG_HOME/snert/settings.ini, else ~/.config/snert/settings.ini;
 // empty when neither variable is set (the app then keeps nothing).

@@ -71,7 +71,8 @@ render::Image read_window(int width, int height) {
 
 bool first_result_ready(const App& app) {
     const JobResults& r = app.results();
-    return !r.error.empty() || (r.finished && r.mc && r.frame && r.mc_current && r.frame_current);
+    return !r.error.empty() || !app.load_error().empty() ||
+           (r.finished && r.mc && r.frame && r.mc_current && r.frame_current);
 }
 
 } // namespace
@@ -141,8 +142,11 @@ int run_window(const WindowOptions& options) {
         if (automation) {
             if (frames_after_result < 0 && first_result_ready(*app)) frames_after_result = 0;
             if (frames_after_result >= 0 && ++frames_after_result >= options.frames) {
-                if (!app->results().error.empty()) {
-                    std::cerr << "snert gui: " << app->results().error << "\n";
+                // The input asked for must be the one shown: no fallback in a screenshot.
+                const std::string& error =
+                    !app->load_error().empty() ? app->load_error() : app->results().error;
+                if (!error.empty()) {
+                    std::cerr << "snert gui: " << error << "\n";
                     result = 2;
                 } else {
                     render::write_png(options.screenshot_path, read_window(fb_width, fb_height));

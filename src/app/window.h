@@ -25,9 +25,10 @@ struct WindowOptions {
 
 // Runs the app until the window is closed (or Quit). In automation mode (screenshot_path
 // set) it draws `frames` frames after the first complete result (both meshes and the end of the
-// relaxation), writes the whole window as a PNG and returns 0; a failed job returns 2 after
-// printing the error. Throws NoWindow when no window can be opened (no display), with
-// GLFW's reason; std::runtime_error naming the file when the screenshot cannot be written.
+// relaxation), writes the whole window as a PNG and returns 0; an input that does not load or a
+// failed job returns 2 after printing the error (no screenshot of a fallback). Throws NoWindow
+// when no window can be opened (no display), with GLFW's reason; std::runtime_error naming the
+// file when the screenshot cannot be written.
 int run_window(const WindowOptions& options);
 
 } // namespace snert::app

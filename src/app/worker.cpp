@@ -5,10 +5,11 @@
 // computes lives in job_ and the caches, which only the worker thread touches.
 #include "worker.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
+#include <limits>
 
-#include "core/marching_cubes.h"
 #include "core/triangulation.h"
 
 namespace snert::app {
@@ -23,6 +24,17 @@ double ms_since(Clock::time_point start) {
 
 void throw_if_stopped(const std::stop_token& stop) {
     if (stop.stop_requested()) throw Cancelled();
+}
+
+// A pipeline result ready to draw (`iteration`: of the relaxation, -1 for Marching Cubes).
+std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, int iteration = -1) {
+    auto display = std::make_shared<DisplayMesh>();
+    display->method = result.method;
+    display->iteration = iteration;
+    display->quality = triangle_quality(result.mesh);
+    display->mesh = std::move(result.mesh);
+    display->metrics = result.metrics;
+    return display;
 }
 
 } // namespace
@@ -52,12 +64,13 @@ const char* stage_name(Stage stage) {
 struct Worker::Job {
     std::uint64_t generation = 0;
     Clock::time_point start = Clock::now();
-    std::shared_ptr<const SourceVolume> source;
+    std::shared_ptr<const Source> source;
     PipelineOptions options;
     DistanceFunction reference;                  // voxel units; may be empty
     std::shared_ptr<const RelaxContext> context; // once the net exists
     std::unique_ptr<IterationHistory> history;
-    int frame_sent = -1; // iteration of the last frame posted
+    std::shared_ptr<const DisplayMesh> final_frame; // the pipeline's own mesh of its last iteration
+    int frame_sent = -1;                            // iteration of the last frame posted
 };
 
 Worker::Worker(WorkerOptions options)
@@ -204,80 +217,93 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
     Job& job = *job_;
     job.generation = generation;
     try {
-        // Load, unless the volume is the one already in memory.
+        // Open the input, unless it is the one already in memory.
         set_stage(generation, Stage::Load);
         if (!cached_source_ || !(cached_source_->spec == request.volume)) {
             cached_source_.reset();
             cached_mc_.reset();
-            cached_source_ = std::make_shared<const SourceVolume>(
-                load_source(request.volume, stage_progress(Stage::Load, stop)));
+            cached_source_ = std::make_shared<const Source>(
+                open_source(request.volume, stage_progress(Stage::Load, stop)));
         }
         progress_.fraction[std::size_t(Stage::Load)].store(1.0f);
         job.source = cached_source_;
         const Volume& volume = *job.source->volume;
+        const Segmentation* mask = job.source->mask.get();
 
         const float iso = request.iso.value_or(job.source->suggested_iso);
         job.options = request.options;
         job.options.iso = iso;
         job.options.relax.iso = iso;
-        // The phantom's exact surface is the reference only at the phantom's own iso; anywhere
-        // else the first-order distance to the chosen iso-surface is.
-        const bool analytic = job.source->analytic && iso == job.source->suggested_iso;
-        job.reference = analytic ? job.source->reference : first_order_distance(volume, iso);
-        post(generation, VolumeMessage{job.source, iso, analytic});
+        // The phantom's exact surface at the phantom's own iso, else the first-order distance
+        // to the chosen iso-surface of the grey values.
+        const AccuracyReference reference = accuracy_reference(*job.source, iso);
+        job.reference = reference.distance;
+        job.options.measure.reference_volume = reference.volume;
+        post(generation, VolumeMessage{job.source, iso, reference.analytic});
 
+        // The topology: the label's mask, or the grey values thresholded.
         set_stage(generation, Stage::Segment);
         throw_if_stopped(stop);
-        const Segmentation segmentation = segment_threshold(volume, iso, job.options.inside);
+        std::optional<Segmentation> threshold;
+        if (!mask) threshold = segment_threshold(volume, iso, job.options.inside);
+        const Segmentation& segmentation = mask ? *mask : *threshold;
         progress_.fraction[std::size_t(Stage::Segment)].store(1.0f);
 
         set_stage(generation, Stage::MarchingCubes);
         if (!cached_mc_ || cached_mc_iso_ != iso || cached_mc_inside_ != job.options.inside) {
             cached_mc_.reset();
-            MethodResult mc = run_marching_cubes(volume, job.options, job.reference,
-                                                 stage_progress(Stage::MarchingCubes, stop));
-            auto display = std::make_shared<DisplayMesh>();
-            display->method = mc.method;
-            display->quality = triangle_quality(mc.mesh);
-            display->mesh = std::move(mc.mesh);
-            display->metrics = mc.metrics;
-            cached_mc_ = std::move(display);
+            cached_mc_ =
+                display_mesh(run_method(Method::MarchingCubes, volume, mask, job.options,
+                                        job.reference, stage_progress(Stage::MarchingCubes, stop)));
             cached_mc_iso_ = iso;
             cached_mc_inside_ = job.options.inside;
         }
         progress_.fraction[std::size_t(Stage::MarchingCubes)].store(1.0f);
         post(generation, MarchingCubesMessage{cached_mc_});
 
+        // The net, relaxed by the pipeline itself; the worker watches every iteration.
         set_stage(generation, Stage::Net);
         const auto net_start = Clock::now();
-        auto context = std::make_shared<RelaxContext>();
-        context->volume = job.source->volume;
-        context->net = build_surface_net(segmentation, stage_progress(Stage::Net, stop));
-        throw_if_stopped(stop);
-        context->options = job.options.relax;
-        context->grey = make_grey_field(*context->volume, context->options);
-        job.context = context;
-        job.history =
-            std::make_unique<IterationHistory>(job.context, options_.history_budget_bytes);
-        progress_.fraction[std::size_t(Stage::Net)].store(1.0f);
-        post(generation, NetMessage{context->net.node_count(), context->net.link_count(),
-                                    context->net.quads.size(), job.options.relax.max_iterations,
-                                    ms_since(net_start)});
-        after_iteration(job, {}, 0.0f, stop); // iteration 0: the initial net
-
-        set_stage(generation, Stage::Relax);
-        const RelaxResult relaxed = relax(
-            context->net, &context->grey, context->options,
-            [&](const RelaxIteration& it, std::span<const glm::vec3> positions) {
-                after_iteration(job, positions, it.max_move, stop);
-                return true;
-            },
-            stage_progress(Stage::Relax, stop));
+        NetObserver observer;
+        observer.on_net = [&](std::shared_ptr<const SurfaceNet> net,
+                              std::shared_ptr<const GreyField> field) {
+            throw_if_stopped(stop);
+            auto context = std::make_shared<RelaxContext>();
+            context->volume = job.source->volume;
+            context->net = std::move(net);
+            context->grey = std::move(field);
+            context->options = job.options.relax;
+            job.context = context;
+            job.history =
+                std::make_unique<IterationHistory>(job.context, options_.history_budget_bytes);
+            progress_.fraction[std::size_t(Stage::Net)].store(1.0f);
+            post(generation, NetMessage{context->net->node_count(), context->net->link_count(),
+                                        context->net->quads.size(),
+                                        job.options.relax.max_iterations, ms_since(net_start)});
+            after_iteration(job, {}, 0.0f, stop); // iteration 0: the initial net
+            set_stage(generation, Stage::Relax);
+        };
+        observer.on_iteration = [&](const RelaxIteration& it,
+                                    std::span<const glm::vec3> positions) {
+            after_iteration(job, positions, it.max_move, stop);
+            return true;
+        };
+        observer.relax_progress = stage_progress(Stage::Relax, stop);
+        MethodResult net = run_surface_net(volume, segmentation, job.options, job.reference,
+                                           stage_progress(Stage::Net, stop), observer);
+        const bool converged = net.metrics.converged;
+        {
+            // The final mesh's distance to MC's surface, as the CLI's table reports it.
+            MethodResult pair[2] = {{Method::MarchingCubes, cached_mc_->mesh, {}}, std::move(net)};
+            measure_against_marching_cubes(pair, volume);
+            net = std::move(pair[1]);
+        }
+        job.final_frame = display_mesh(std::move(net), job.history->latest_iteration());
         serve_view(job, stop, true);
         set_stage(generation, Stage::Done);
         ++jobs_finished_;
-        post(generation, FinishedMessage{job.history->latest_iteration(), relaxed.converged,
-                                         ms_since(job.start)});
+        post(generation,
+             FinishedMessage{job.history->latest_iteration(), converged, ms_since(job.start)});
     } catch (const Cancelled&) {
         // A newer request (or shutdown) took over; it resets the progress itself.
     } catch (const std::exception& e) {
@@ -292,21 +318,22 @@ void Worker::relax_further(std::uint64_t generation, int extra, std::stop_token 
     try {
         set_stage(generation, Stage::Relax);
         const RelaxContext& c = *job.context;
-        std::vector<glm::vec3> current(job.history->latest().begin(), job.history->latest().end());
-        std::vector<glm::vec3> next(current.size());
         const int first = job.history->latest_iteration();
+        extra = std::min(extra, std::numeric_limits<int>::max() - first);
         progress_.max_iterations.store(first + extra);
-        bool converged = false;
-        for (int i = 0; i < extra && !converged; ++i) {
-            throw_if_stopped(stop);
-            // The same step relax() takes, so the history can recompute these iterations too.
-            const float max_move =
-                relax_step(c.net, &c.grey, c.options, first + i + 1, current, next);
-            current.swap(next);
-            after_iteration(job, current, max_move, stop);
-            progress_.fraction[std::size_t(Stage::Relax)].store(float(i + 1) / float(extra));
-            converged = max_move < c.options.epsilon;
-        }
+        job.final_frame.reset();
+        // relax() from the newest positions, the iterations numbered on (the damping schedule
+        // goes on), so the history can recompute these iterations too.
+        RelaxOptions options = c.options;
+        options.max_iterations = first + extra;
+        const RelaxResult relaxed =
+            relax(*c.net, c.grey.get(), options,
+                  [&](const RelaxIteration& it, std::span<const glm::vec3> positions) {
+                      after_iteration(job, positions, it.max_move, stop);
+                      return true;
+                  },
+                  stage_progress(Stage::Relax, stop), {job.history->latest(), first});
+        const bool converged = relaxed.converged;
         serve_view(job, stop, true);
         set_stage(generation, Stage::Done);
         post(generation,
@@ -324,22 +351,22 @@ void Worker::after_iteration(Job& job, std::span<const glm::vec3> positions, flo
     if (!positions.empty()) job.history->append(positions);
     const int k = job.history->latest_iteration();
     const RelaxContext& c = *job.context;
-    const std::span<const glm::vec3> now = job.history->latest();
 
-    // The convergence numbers, measured exactly as measure() does (core/pipeline.h).
-    const Mesh index_mesh = triangulate(c.net, now, c.options.triangulation, c.volume->spacing);
-    const Mesh world = mesh_to_world(index_mesh, *c.volume);
+    // The convergence numbers: measure()'s, restricted to what the plots show.
+    const Mesh index_mesh =
+        triangulate(*c.net, job.history->latest(), c.options.triangulation, c.volume->spacing);
+    MeasureOptions what = job.options.measure;
+    what.convergence_only = true;
+    const MethodMetrics m = measure(index_mesh, *c.volume, job.reference, what);
     IterationStats stats;
     stats.iteration = k;
     stats.max_move = max_move;
-    const QualityStats quality = quality_stats(world);
-    stats.quality_mean = quality.mean;
-    stats.quality_min = quality.min;
-    stats.smoothness = smoothness(world);
-    if (job.reference) {
-        const Accuracy a = accuracy(index_mesh, job.reference);
-        stats.accuracy_vertices = a.vertices_mean;
-        stats.accuracy_faces = a.faces_mean;
+    stats.quality_mean = m.quality.mean;
+    stats.quality_min = m.quality.min;
+    stats.smoothness = m.smoothness;
+    if (m.accuracy) {
+        stats.accuracy_vertices = m.accuracy->vertices_mean;
+        stats.accuracy_faces = m.accuracy->faces_mean;
     }
     post(job.generation, IterationMessage{stats});
     progress_.iteration.store(k);
@@ -382,13 +409,14 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
 
 std::shared_ptr<const DisplayMesh> Worker::make_frame(const Job& job, int iteration,
                                                       std::span<const glm::vec3> positions) const {
+    if (job.final_frame && job.final_frame->iteration == iteration) return job.final_frame;
     const RelaxContext& c = *job.context;
     const Mesh index_mesh =
-        triangulate(c.net, positions, c.options.triangulation, c.volume->spacing);
+        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
     auto frame = std::make_shared<DisplayMesh>();
     frame->method = method_of(job.options.relax.mode);
     frame->iteration = iteration;
-    frame->metrics = measure(index_mesh, *c.volume, job.reference);
+    frame->metrics = measure(index_mesh, *c.volume, job.reference, job.options.measure);
     frame->mesh = mesh_to_world(index_mesh, *c.volume);
     frame->quality = triangle_quality(frame->mesh);
     return frame;

@@ -21,8 +21,15 @@
 //    the largest move falls under epsilon ("run to convergence").
 //  - The worker never touches GL or ImGui. The destructor cancels and joins.
 //
-// Caches: the last loaded volume is kept, so changing a parameter does not reload the file; the
-// last Marching Cubes result is kept while volume, iso and inside stay the same.
+// The computation is the pipeline's (core/pipeline.h), as the CLI runs it: the input is opened
+// with io/source.h's open_source; Marching Cubes is run_method's (on the label's mask at 0.5
+// when the input has one); the net is run_surface_net's, observed (NetObserver), so every
+// iteration reaches the history; "run to convergence" continues with relax() from the newest
+// positions; every frame and convergence number is measure()'s.
+//
+// Caches: the last opened input is kept while its SourceSpec stays equal, so changing a
+// parameter does not reload the file; the last Marching Cubes result is kept while input, iso
+// and inside stay the same.
 #pragma once
 
 #include <array>
@@ -39,15 +46,15 @@
 #include <vector>
 
 #include "core/pipeline.h"
+#include "io/source.h"
 #include "iteration_history.h"
-#include "volume_source.h"
 
 namespace snert::app {
 
-// One job: a volume and the pipeline's parameters (DESIGN.md).
+// One job: an input and the pipeline's parameters (DESIGN.md).
 struct JobRequest {
-    VolumeSpec volume;
-    std::optional<float> iso; // empty: the volume's suggested iso
+    SourceSpec volume;
+    std::optional<float> iso; // empty: the input's suggested iso
     PipelineOptions options;  // options.iso and options.relax.iso are set from the iso
 };
 
@@ -74,7 +81,7 @@ struct DisplayMesh {
 };
 
 struct VolumeMessage {
-    std::shared_ptr<const SourceVolume> source;
+    std::shared_ptr<const Source> source;
     float iso = 0.0f;                // the iso this job uses
     bool analytic_reference = false; // accuracy is measured against the exact surface
 };
@@ -183,7 +190,7 @@ class Worker {
 
     // Owned by the worker thread only.
     std::unique_ptr<Job> job_;
-    std::shared_ptr<const SourceVolume> cached_source_;
+    std::shared_ptr<const Source> cached_source_;
     std::shared_ptr<const DisplayMesh> cached_mc_;
     float cached_mc_iso_ = 0.0f;
     InsideIs cached_mc_inside_ = InsideIs::Above;

@@ -1,20 +1,25 @@
-// The subcommands of the `snert` executable. Each takes its arguments (after the subcommand
-// name) and returns the process exit code; errors are thrown and mapped to codes by main.
+// The subcommands of the `snert` executable. Each add_* declares its subcommand, with its
+// options, on the CLI11 app and returns what runs it once the command line is parsed; the
+// runner returns the exit code and throws for errors, which main maps to exit codes
+// (InputError and CLI::ParseError: 2; anything else: 1).
 #pragma once
 
-#include <string>
-#include <vector>
+#include <functional>
+
+#include <CLI/CLI.hpp>
 
 namespace snert::cli {
 
-int run_table1(const std::vector<std::string>& args);
-int run_compare(const std::vector<std::string>& args);
-int run_export(const std::vector<std::string>& args);
+using Runner = std::function<int()>;
+
+Runner add_table1(CLI::App& app);
+Runner add_compare(CLI::App& app);
+Runner add_export(CLI::App& app);
 #ifdef SNERT_HAVE_RENDER
-int run_render(const std::vector<std::string>& args);
+Runner add_render(CLI::App& app);
 #endif
 #ifdef SNERT_HAVE_APP
-int run_gui(const std::vector<std::string>& args);
+Runner add_gui(CLI::App& app);
 #endif
 
 } // namespace snert::cli

@@ -1,54 +1,51 @@
 // snert compare: MC and the relaxed nets of one volume, all metrics, as a table and JSON.
 #include <iostream>
+#include <memory>
 
 #include "commands.h"
-#include "methods.h"
+#include "options.h"
+#include "report.h"
 
 namespace snert::cli {
 
-namespace {
-
-const char* kHelp = R"(usage: snert compare VOLUME|phantom:NAME [options]
-
-  --size N             phantom grid size (default 64)
-  --iso V              iso value (default: the phantom's, or a suggestion for files)
-  --inside above|below inside is I >= iso (default) or I <= iso
-  --labels FILE --label N   segment by a label map; the net's gradient uses the grey image
-  --mode sna|gradient|snert   run MC and this net only (default: MC, SNA and SNERT)
-  --iterations K       relaxation iterations (default 20)
-  --smoothing-weight W --gradient-weight W   weights of the two terms (default 1, 1)
-  --schedule simultaneous|smoothing-first
-  --constraint raybox|clip
-  --gradient central|gaussian  --sigma S
-  --epsilon E          stop when the largest move is under E voxels (default 1e-4)
-  --triangulation shorter|delaunay
-  --guard on|off       refuse moves that make the mesh self-intersect or add slivers (default on)
-  --json FILE          also write the metrics as JSON
-)";
-
-} // namespace
-
-int run_compare(const std::vector<std::string>& argv) {
-    std::set<std::string> options = input_options();
-    for (const auto& n : pipeline_option_names()) options.insert(n);
-    options.insert("json");
-    const Args args(argv, options, input_switches());
-    if (args.flag("help")) {
-        std::cout << kHelp;
+Runner add_compare(CLI::App& app) {
+    struct Args {
+        InputArgs input;
+        PipelineArgs pipeline;
+        std::string json;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* command = app.add_subcommand(
+        "compare", "Marching Cubes and the relaxed SurfaceNets of a volume, with all metrics");
+    add_input_options(*command, args->input);
+    add_pipeline_options(*command, args->pipeline);
+    add_json_option(*command, args->json);
+    command->footer("The table goes to standard output (to standard error with --json -).\n");
+    return [args] {
+        const InputChoice choice = input_choice(args->input);
+        if (!args->json.empty() && args->json != "-") check_output(args->json, {".json"});
+        const Source source = open_input(choice);
+        const float iso = choice.iso.value_or(source.suggested_iso);
+        const InsideIs inside = choice.inside.value_or(source.suggested_inside);
+        const PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
+        const Measured m = measured(source, iso);
+        std::vector<MethodResult> results;
+        nlohmann::json json;
+        for (const Method method : compared_methods(args->pipeline.mode)) {
+            results.push_back(run_source_method(method, source, pipeline, m));
+            require_surface(results.back(), m);
+        }
+        measure_against_marching_cubes(results, *source.volume);
+        for (const MethodResult& r : results)
+            json[std::string(name_of(r.method))] = method_json(r, m);
+        json["provenance"] =
+            provenance_json("compare", input_json(source), iso, inside, pipeline.relax);
+        json["provenance"]["iso_from"] = choice.iso ? "--iso" : source.iso_reason;
+        std::ostream& table = args->json == "-" ? std::cerr : std::cout;
+        print_table(table, m.name + " (iso " + format_number(iso) + ")", results, m);
+        if (!args->json.empty()) write_json(args->json, json);
         return 0;
-    }
-    const Input input = load_input(args);
-    const PipelineOptions pipeline = pipeline_options(args, input);
-    std::vector<MethodResult> results;
-    nlohmann::json json;
-    for (const Method method : requested_methods(args)) {
-        results.push_back(run_method(input, pipeline, method));
-        require_surface(results.back(), input);
-        json[std::string(name_of(method))] = method_json(results.back(), input);
-    }
-    print_table(std::cout, input.name + " (iso " + std::to_string(input.iso) + ")", results, input);
-    if (auto path = args.value("json")) write_json(*path, json);
-    return 0;
+    };
 }
 
 } // namespace snert::cli

@@ -1,36 +1,49 @@
 // snert export: one method's mesh written as STL, OBJ, PLY, OFF or VTK, in world millimetres.
 #include <iostream>
+#include <memory>
 
 #include "commands.h"
 #include "io/mesh_io.h"
-#include "methods.h"
+#include "options.h"
+#include "report.h"
 
 namespace snert::cli {
 
-int run_export(const std::vector<std::string>& argv) {
-    std::set<std::string> options = input_options();
-    for (const auto& n : pipeline_option_names()) options.insert(n);
-    options.insert("method");
-    options.insert("out");
-    const Args args(argv, options, input_switches());
-    if (args.flag("help")) {
-        std::cout << "usage: snert export VOLUME|phantom:NAME --method mc|sna|gradient|snert "
-                     "--out FILE.{stl,obj,ply,off,vtk} [options of compare]\n";
+Runner add_export(CLI::App& app) {
+    struct Args {
+        InputArgs input;
+        PipelineArgs pipeline;
+        Method method = Method::Snert;
+        std::string out;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* command =
+        app.add_subcommand("export", "write one method's mesh as STL, OBJ, PLY, OFF or VTK");
+    add_input_options(*command, args->input);
+    add_name_option(*command, "--method", args->method, "the mesh to write")->group("Output");
+    command->add_option("--out", args->out, "the mesh file (world millimetres)")
+        ->required()
+        ->type_name("FILE.{stl,obj,ply,off,vtk}")
+        ->group("Output");
+    // The net is chosen by --method: no --mode here.
+    add_pipeline_options(*command, args->pipeline, false);
+    return [args] {
+        const InputChoice choice = input_choice(args->input);
+        check_output(args->out, {".stl", ".obj", ".ply", ".off", ".vtk"});
+        const MeshFormat format = mesh_format_from_path(args->out);
+        const Source source = open_input(choice);
+        const float iso = choice.iso.value_or(source.suggested_iso);
+        const InsideIs inside = choice.inside.value_or(source.suggested_inside);
+        const Measured m = measured(source, iso);
+        const MethodResult result = run_source_method(
+            args->method, source, pipeline_options(args->pipeline, iso, inside), m);
+        require_surface(result, m);
+        write_mesh(result.mesh, args->out, format);
+        std::cerr << "wrote " << args->out << ": " << result.mesh.vertex_count() << " vertices, "
+                  << result.mesh.triangle_count() << " triangles (" << name_of(args->method)
+                  << ")\n";
         return 0;
-    }
-    const auto out = args.value("out");
-    if (!out) throw UsageError("missing --out FILE.{stl,obj,ply,off,vtk}");
-    const MeshFormat format = mesh_format_from_path(*out); // before the work: fail early
-    if (args.has("mode")) throw UsageError("use --method to choose the mesh to export");
-    const Method method = *parse_name<Method>(
-        args.choice("method", "snert", {"mc", "sna", "gradient", "snert"}));
-    const Input input = load_input(args);
-    const MethodResult result = run_method(input, pipeline_options(args, input), method);
-    require_surface(result, input);
-    write_mesh(result.mesh, *out, format);
-    std::cerr << "wrote " << *out << ": " << result.mesh.vertex_count() << " vertices, "
-              << result.mesh.triangle_count() << " triangles (" << name_of(method) << ")\n";
-    return 0;
+    };
 }
 
 } // namespace snert::cli

@@ -1,37 +1,26 @@
-// snert gui: the interactive app (src/app) in a window; also what `snert` alone runs.
+// snert gui: the interactive app (src/app) in a window; also what `snert` alone runs. It takes
+// the input and pipeline options of the other commands and hands them to the app as they were
+// parsed (app::AppOptions); what is not given stays the app's saved choice.
 #ifdef SNERT_HAVE_APP
 
 #include <algorithm>
 #include <iostream>
+#include <memory>
 
 #include "app/path_completion.h"
 #include "app/settings.h"
 #include "app/window.h"
-#include "args.h"
 #include "commands.h"
+#include "core/input_error.h"
 #include "core/phantom.h"
+#include "options.h"
 
 namespace snert::cli {
 
 namespace {
 
-const char* kHelp = R"(usage: snert gui [VOLUME|phantom:NAME] [options]
-
-Opens the app: Marching Cubes and the relaxed SurfaceNet side by side, the parameters, the
-relaxation's iterations to step through. Without an input it opens the volume of the last
-session (the two-spheres phantom the first time). Press F1 in the app for its keys.
-
-  --size N            phantom grid size (default: the last one used, 64 the first time)
-  --window WxH        window size in pixels (default: the last one used)
-  --no-settings       neither read nor write the settings file
-                      ($XDG_CONFIG_HOME/snert/settings.ini or ~/.config/snert/settings.ini)
-  --screenshot FILE   automation: draw --frames frames once the first result is complete,
-                      save the whole window as a PNG and exit (implies --no-settings)
-  --frames N          frames drawn before the screenshot (default 10)
-)";
-
-// "1280x800" -> {1280, 800}.
-std::pair<int, int> parse_window_size(const std::string& text) {
+// "1280x800" -> {1280, 800}; an error message for a CLI11 validator, or empty.
+std::string parse_window_size(const std::string& text, std::pair<int, int>* size) {
     const auto x = text.find('x');
     try {
         if (x != std::string::npos) {
@@ -39,52 +28,155 @@ std::pair<int, int> parse_window_size(const std::string& text) {
             const int w = std::stoi(text.substr(0, x), &used_w);
             const int h = std::stoi(text.substr(x + 1), &used_h);
             if (used_w == x && used_h == text.size() - x - 1 && w >= 320 && h >= 240 &&
-                w <= 16384 && h <= 16384)
-                return {w, h};
+                w <= 16384 && h <= 16384) {
+                if (size) *size = {w, h};
+                return {};
+            }
         }
     } catch (const std::exception&) {
     }
-    throw UsageError("--window wants WIDTHxHEIGHT with at least 320x240, not '" + text + "'");
+    return "wants WIDTHxHEIGHT with at least 320x240, not '" + text + "'";
+}
+
+struct GuiArgs {
+    InputArgs input;
+    PipelineArgs pipeline;
+    std::string window, screenshot;
+    int frames = 10;
+    bool no_settings = false;
+    CLI::App* command = nullptr;
+};
+
+// Whether any relaxation option was given (else the app keeps its saved ones).
+bool pipeline_given(const GuiArgs& args) {
+    for (const CLI::Option* o : args.command->get_options())
+        if (o->get_group() == args.pipeline.o_iterations->get_group() && o->count() > 0)
+            return true;
+    return false;
+}
+
+// The relaxation of the app's settings with the options given on the command line put over it:
+// an option not given keeps the last session's choice.
+RelaxOptions given_over(RelaxOptions relax, const GuiArgs& args) {
+    const RelaxOptions& given = args.pipeline.relax;
+    struct Field {
+        const char* flag;
+        void (*copy)(RelaxOptions& to, const RelaxOptions& from);
+    };
+    static constexpr Field kFields[] = {
+        {"--iterations",
+         [](RelaxOptions& t, const RelaxOptions& f) { t.max_iterations = f.max_iterations; }},
+        {"--smoothing-weight",
+         [](RelaxOptions& t, const RelaxOptions& f) { t.smoothing_weight = f.smoothing_weight; }},
+        {"--gradient-weight",
+         [](RelaxOptions& t, const RelaxOptions& f) { t.gradient_weight = f.gradient_weight; }},
+        {"--schedule", [](RelaxOptions& t, const RelaxOptions& f) { t.schedule = f.schedule; }},
+        {"--constraint",
+         [](RelaxOptions& t, const RelaxOptions& f) { t.constraint = f.constraint; }},
+        {"--gradient", [](RelaxOptions& t, const RelaxOptions& f) { t.gradient = f.gradient; }},
+        {"--sigma",
+         [](RelaxOptions& t, const RelaxOptions& f) { t.gradient_sigma = f.gradient_sigma; }},
+        {"--epsilon", [](RelaxOptions& t, const RelaxOptions& f) { t.epsilon = f.epsilon; }},
+        {"--triangulation",
+         [](RelaxOptions& t, const RelaxOptions& f) { t.triangulation = f.triangulation; }},
+        {"--guard", [](RelaxOptions& t, const RelaxOptions& f) { t.keep_valid = f.keep_valid; }},
+    };
+    for (const Field& field : kFields)
+        if (args.command->count(field.flag) > 0) field.copy(relax, given);
+    if (args.pipeline.mode) relax.mode = *args.pipeline.mode;
+    return relax;
+}
+
+// The parsed command line as the app's options.
+app::WindowOptions window_options(const GuiArgs& args) {
+    app::WindowOptions options;
+    InputChoice choice = input_choice(args.input);
+    if (!choice.spec.input.empty()) {
+        choice.spec.input = app::expand_home(choice.spec.input);
+        const std::string_view phantom = phantom_spec_name(choice.spec.input);
+        if (!phantom.empty()) {
+            const auto names = phantom_names();
+            if (std::find(names.begin(), names.end(), phantom) == names.end())
+                throw InputError("unknown phantom '" + std::string(phantom) + "'");
+        } else if (!app::openable_path(choice.spec.input)) {
+            throw InputError(choice.spec.input + ": no such file or folder");
+        }
+        options.app.source = choice.spec;
+    } else if (args.input.o_size->count()) {
+        throw CLI::ValidationError("--size", "needs a phantom:NAME to apply to");
+    }
+    options.app.iso = choice.iso;
+    options.app.inside = choice.inside;
+    const bool use_settings = !args.no_settings && args.screenshot.empty();
+    if (use_settings) options.app.settings_path = app::default_settings_path();
+    options.save_settings = use_settings;
+    if (pipeline_given(args)) {
+        PipelineOptions pipeline = pipeline_options(args.pipeline, choice.iso.value_or(0.0f),
+                                                    choice.inside.value_or(InsideIs::Above));
+        const app::Parameters saved = app::load_settings(options.app.settings_path).parameters;
+        RelaxOptions relax = saved.relax;
+        relax.triangulation = saved.triangulation;
+        pipeline.relax = given_over(relax, args);
+        options.app.pipeline = pipeline;
+    }
+    if (!args.window.empty()) {
+        std::pair<int, int> size;
+        parse_window_size(args.window, &size);
+        options.width = size.first;
+        options.height = size.second;
+    }
+    options.screenshot_path = args.screenshot;
+    options.frames = args.frames;
+    return options;
 }
 
 } // namespace
 
-int run_gui(const std::vector<std::string>& argv) {
-    const Args args(argv, {"size", "window", "screenshot", "frames"}, {"help", "no-settings"});
-    if (args.flag("help")) {
-        std::cout << kHelp;
-        return 0;
-    }
-    if (args.positional().size() > 1)
-        throw UsageError("unexpected argument '" + args.positional()[1] + "'");
-    app::WindowOptions options;
-    if (!args.positional().empty()) {
-        const std::string input = app::expand_home(args.positional().front());
-        const std::string_view phantom = phantom_spec_name(input);
-        if (!phantom.empty()) {
-            const auto names = phantom_names();
-            if (std::find(names.begin(), names.end(), phantom) == names.end())
-                throw UsageError("unknown phantom '" + std::string(phantom) + "'");
-        } else if (!app::openable_path(input)) {
-            throw std::runtime_error(input + ": no such file or folder");
+Runner add_gui(CLI::App& app) {
+    auto args = std::make_shared<GuiArgs>();
+    CLI::App* command =
+        app.add_subcommand("gui", "open the interactive app (also: snert with no command)");
+    args->command = command;
+    command->footer(
+        "Opens the app: Marching Cubes and the relaxed SurfaceNet side by side, the "
+        "parameters, the relaxation's iterations to step through. Without VOLUME it opens the "
+        "volume of the last session (the two-spheres phantom the first time); options not "
+        "given keep the last session's choices. Press F1 in the app for its keys.\n");
+    add_input_options(*command, args->input, true);
+    add_pipeline_options(*command, args->pipeline);
+    const char* group = "Window";
+    command->add_option("--window", args->window, "window size in pixels (default: the last one)")
+        ->check(
+            CLI::Validator([](std::string& text) { return parse_window_size(text, nullptr); }, ""))
+        ->type_name("WxH")
+        ->group(group);
+    command
+        ->add_flag("--no-settings", args->no_settings,
+                   "neither read nor write the settings file ($XDG_CONFIG_HOME/snert/"
+                   "settings.ini or ~/.config/snert/settings.ini)")
+        ->group(group);
+    command
+        ->add_option("--screenshot", args->screenshot,
+                     "automation: draw --frames frames once the first result is complete, save "
+                     "the whole window as a PNG and exit (implies --no-settings)")
+        ->type_name("FILE.png")
+        ->group(group);
+    command->add_option("--frames", args->frames, "frames drawn before the screenshot")
+        ->check(CLI::Range(1, 100000))
+        ->type_name("N")
+        ->capture_default_str()
+        ->group(group);
+    return [args] {
+        if (!args->screenshot.empty()) check_output(args->screenshot, {".png"});
+        const app::WindowOptions options = window_options(*args);
+        try {
+            return app::run_window(options);
+        } catch (const app::NoWindow& e) {
+            // No display is not bad input: say so and what works instead.
+            std::cerr << "snert gui: " << e.what() << "\n";
+            return 1;
         }
-        options.app.input = input;
-    }
-    if (args.has("size")) options.app.phantom_size = args.integer("size", 64, 8, 1024);
-    if (auto size = args.value("window"))
-        std::tie(options.width, options.height) = parse_window_size(*size);
-    options.screenshot_path = args.value_or("screenshot", "");
-    options.frames = args.integer("frames", 10, 1, 100000);
-    const bool use_settings = !args.flag("no-settings") && options.screenshot_path.empty();
-    if (use_settings) options.app.settings_path = app::default_settings_path();
-    options.save_settings = use_settings;
-    try {
-        return app::run_window(options);
-    } catch (const app::NoWindow& e) {
-        // No display is not bad input: say so and what works instead.
-        std::cerr << "snert gui: " << e.what() << "\n";
-        return 1;
-    }
+    };
 }
 
 } // namespace snert::cli

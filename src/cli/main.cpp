@@ -1,82 +1,102 @@
-// snert: Marching Cubes and SNERT side by side. Dispatches to the subcommands; with none, opens
-// the app where it is built in.
-#include <cstdio>
+// snert: Marching Cubes and SNERT side by side. The subcommands are declared with CLI11
+// (commands.h); with none, the app opens where it is built in.
+//
+// Exit codes: 0 success (and --help, --version); 2 bad input or usage (InputError, a
+// CLI::ParseError), with one line "snert COMMAND: message" on stderr; 1 anything else
+// ("internal error"), or a cancelled run.
 #include <exception>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
-#include "args.h"
+#include <CLI/CLI.hpp>
+
 #include "commands.h"
+#include "core/input_error.h"
 #include "core/progress.h"
+
+#ifndef SNERT_VERSION
+#define SNERT_VERSION "unknown"
+#endif
 
 namespace {
 
-const char* kUsage =
-    R"(usage: snert <command> [options]
-
-commands:
-  table1   the paper's Table 1 measured on the plane, sphere and two-spheres phantoms
-  compare  Marching Cubes and the relaxed SurfaceNets of a volume, with all metrics
-  export   write one method's mesh as STL, OBJ, PLY, OFF or VTK
-)"
-#ifdef SNERT_HAVE_RENDER
-    R"(  render   draw the side-by-side comparison into a PNG, without a window
-)"
-#endif
-#ifdef SNERT_HAVE_APP
-    R"(  gui      open the interactive app (also: snert with no command)
-)"
-#endif
-    R"(
-inputs: phantom:NAME (plane, sphere, two-spheres, torus, noisy-sphere, binary-sphere) or a file
-run `snert <command> --help` for the options of a command
-)";
+// One line: CLI11 and the libraries may put several into a message.
+std::string one_line(std::string text) {
+    for (char& c : text)
+        if (c == '\n' || c == '\r') c = ' ';
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    return text;
+}
 
 } // namespace
 
 int main(int argc, char** argv) {
-    std::vector<std::string> args(argv + 1, argv + argc);
-    if (args.empty()) {
-#ifdef SNERT_HAVE_APP
-        args = {"gui"};
-#else
-        std::cerr << kUsage;
-        return 2;
+    CLI::App app("snert: Marching Cubes and SNERT side by side", "snert");
+    app.set_version_flag("--version", "snert " SNERT_VERSION, "print the version and exit");
+    app.require_subcommand(0, 1);
+    app.footer("inputs: phantom:NAME or a volume file, DICOM folder or raw data; run `snert "
+               "COMMAND --help` for the options of a command\n");
+
+    std::map<std::string, snert::cli::Runner> runners;
+    runners["table1"] = snert::cli::add_table1(app);
+    runners["compare"] = snert::cli::add_compare(app);
+    runners["export"] = snert::cli::add_export(app);
+#ifdef SNERT_HAVE_RENDER
+    runners["render"] = snert::cli::add_render(app);
 #endif
+#ifdef SNERT_HAVE_APP
+    runners["gui"] = snert::cli::add_gui(app);
+#endif
+    app.add_subcommand("version", "print the version and exit");
+
+    // The command named on the line, for the messages ("snert compare: ...").
+    std::string command;
+    if (argc > 1 && argv[1][0] != '-') command = argv[1];
+    const std::string prefix = command.empty() ? "snert: " : "snert " + command + ": ";
+    if (!command.empty() && command != "version" && command != "help" && !runners.count(command)) {
+        std::cerr << "snert " << command << ": unknown command '" << command
+                  << "' (see snert --help)\n";
+        return 2;
     }
-    const std::string command = args.front();
-    args.erase(args.begin());
+    if (command == "help") {
+        std::cout << app.help();
+        return 0;
+    }
+
     try {
-        if (command == "--help" || command == "-h" || command == "help") {
-            std::cout << kUsage;
+        app.parse(argc, argv);
+        if (command == "version") {
+            std::cout << "snert " SNERT_VERSION "\n";
             return 0;
         }
-        if (command == "table1") return snert::cli::run_table1(args);
-        if (command == "compare") return snert::cli::run_compare(args);
-        if (command == "export") return snert::cli::run_export(args);
-#ifdef SNERT_HAVE_RENDER
-        if (command == "render") return snert::cli::run_render(args);
-#endif
+        if (command.empty()) {
 #ifdef SNERT_HAVE_APP
-        if (command == "gui") return snert::cli::run_gui(args);
+            return runners.at("gui")();
+#else
+            std::cerr << app.help();
+            return 2;
 #endif
-        throw snert::cli::UsageError("unknown command '" + command + "' (see snert --help)");
-    } catch (const snert::cli::UsageError& e) {
-        std::cerr << "snert " << command << ": " << e.what() << "\n";
+        }
+        return runners.at(command)();
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << prefix << one_line(e.what()) << "\n";
         return 2;
-    } catch (const std::invalid_argument& e) {
-        std::cerr << "snert " << command << ": " << e.what() << "\n";
-        return 2;
-    } catch (const std::runtime_error& e) {
-        // Bad input files and unwritable outputs: the message names the file.
-        std::cerr << "snert " << command << ": " << e.what() << "\n";
+    } catch (const snert::InputError& e) {
+        std::cerr << prefix << one_line(e.what()) << "\n";
         return 2;
     } catch (const snert::Cancelled&) {
-        std::cerr << "snert " << command << ": cancelled\n";
+        std::cerr << prefix << "cancelled\n";
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "snert " << command << ": internal error: " << e.what() << "\n";
+        std::cerr << prefix << "internal error: " << one_line(e.what()) << "\n";
         return 1;
     }
 }

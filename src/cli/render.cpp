@@ -3,169 +3,211 @@
 #ifdef SNERT_HAVE_RENDER
 
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
 #include <iostream>
+#include <memory>
+#include <span>
 
 #include "commands.h"
-#include "core/phantom.h"
-#include "methods.h"
+#include "options.h"
 #include "render/context.h"
 #include "render/figure.h"
 #include "render/image.h"
 #include "render/panels.h"
+#include "report.h"
 
 namespace snert::cli {
 
 namespace {
 
-const char* kHelp = R"(usage: snert render VOLUME|phantom:NAME --out FILE.png [options]
-
-Draws Marching Cubes (left) and the relaxed SurfaceNet (right) under one camera, with the
-quality histograms and the metrics table, into a PNG. Needs no display.
-
-  --out FILE.png       the picture to write (replaced atomically)
-  --width W --height H image size in pixels (default 1200 x 900)
-  --view front|side|top|iso      camera preset framing the meshes (default iso)
-  --zoom Z             move the camera Z times closer, for close-ups (default 1)
-  --shading flat|smooth|quality  facets, smooth surface, or colour by triangle quality
-                       (smallest / largest angle; default smooth)
-  --threshold Q        quality shading: triangles with quality under Q in red (default 0.25)
-  --wireframe          draw the triangle edges over the surface
-  --layout comparison|views|mc|net   the whole figure (default), the two views only, or a
-                       single view
-  --iteration K        show the net after K relaxation iterations (0: the initial net);
-                       sets --iterations K and --epsilon 0
-  --gl osmesa|egl|auto offscreen OpenGL (default auto: OSMesa, else EGL)
-  --samples N          multisampling, 1 to 16 samples per pixel (default 4)
-  --no-caption         leave out the line describing input and parameters
-
-Input and pipeline options are those of `snert compare` (--size, --iso, --inside, --labels,
---label, --mode sna|gradient|snert, --iterations, --smoothing-weight, ...).
-)";
-
-bool ends_with_png(const std::string& path) {
-    if (path.size() < 4) return false;
-    std::string tail = path.substr(path.size() - 4);
-    for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return tail == ".png";
+// What the picture holds: the whole figure or its views (render::FigureLayout), or one view.
+enum class RenderLayout { Comparison, Views, Mc, Net };
+constexpr Named<RenderLayout> kRenderLayouts[] = {
+    {RenderLayout::Comparison, "comparison", "views, histograms and metrics"},
+    {RenderLayout::Views, "views", "the two views only"},
+    {RenderLayout::Mc, "mc", "the Marching Cubes view only"},
+    {RenderLayout::Net, "net", "the net's view only"},
+};
+std::span<const Named<RenderLayout>> name_table(RenderLayout) {
+    return kRenderLayouts;
 }
 
-std::string format_number(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", value);
-    return text;
+render::FigureLayout figure_layout(RenderLayout layout) {
+    return layout == RenderLayout::Comparison ? render::FigureLayout::Comparison
+                                              : render::FigureLayout::Views;
 }
 
 // The net's title: the method, and the iteration when one was asked for.
-std::string net_title(Method method, const Args& args, int iteration) {
+std::string net_title(Method method, std::optional<int> iteration) {
     std::string name(label_of(method));
-    if (!args.has("iteration")) return name;
-    if (iteration == 0) return name + ", initial net";
-    return name + ", iteration " + std::to_string(iteration);
+    if (!iteration) return name;
+    if (*iteration == 0) return name + ", initial net";
+    return name + ", iteration " + std::to_string(*iteration);
 }
 
-std::string caption(const Input& input, const PipelineOptions& options, Method net,
-                    const Args& args) {
-    const glm::ivec3 d = input.volume.dims;
-    std::string text = input.name + "  \xC2\xB7  " + std::to_string(d.x) + "\xC3\x97" +
+std::string caption(const Source& source, float iso, InsideIs inside,
+                    const PipelineOptions& options, Method net, bool exact_iterations,
+                    const Measured& m) {
+    const glm::ivec3 d = source.volume->dims;
+    std::string text = m.name + "  \xC2\xB7  " + std::to_string(d.x) + "\xC3\x97" +
                        std::to_string(d.y) + "\xC3\x97" + std::to_string(d.z) + " samples";
-    text += "  \xC2\xB7  iso " + format_number(input.iso);
-    if (input.inside == InsideIs::Below) text += " (inside below)";
+    text += "  \xC2\xB7  iso " + format_number(iso);
+    if (inside == InsideIs::Below) text += " (inside below)";
     text += "  \xC2\xB7  " + std::string(label_of(net)) + " relaxation, ";
-    if (args.has("iteration"))
+    if (exact_iterations)
         text += std::to_string(options.relax.max_iterations) + " iterations";
     else
         text += "at most " + std::to_string(options.relax.max_iterations) + " iterations";
     // What the table's accuracies are distances to (in voxels).
-    text += input.analytic_reference
-                ? "  \xC2\xB7  accuracy: voxels to the exact surface"
-                : "  \xC2\xB7  accuracy: first-order voxels to the iso-surface";
+    text += m.reference.analytic ? "  \xC2\xB7  accuracy: voxels to the exact surface"
+                                 : "  \xC2\xB7  accuracy: first-order voxels to the iso-surface";
     return text;
 }
 
 } // namespace
 
-int run_render(const std::vector<std::string>& argv) {
-    std::set<std::string> options = input_options();
-    for (const auto& n : pipeline_option_names()) options.insert(n);
-    for (const char* n : {"out", "width", "height", "view", "zoom", "shading", "threshold",
-                          "layout", "iteration", "gl", "samples"})
-        options.insert(n);
-    std::set<std::string> switches = input_switches();
-    switches.insert("wireframe");
-    switches.insert("no-caption");
-    const Args args(argv, options, switches);
-    if (args.flag("help")) {
-        std::cout << kHelp;
+Runner add_render(CLI::App& app) {
+    struct Args {
+        InputArgs input;
+        PipelineArgs pipeline;
+        std::string out;
+        render::FigureOptions figure;
+        RenderLayout layout = RenderLayout::Comparison;
+        int iteration = 0;
+        CLI::Option* o_iteration = nullptr;
+        std::string gl = "auto";
+        bool no_caption = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* command = app.add_subcommand(
+        "render", "draw the side-by-side comparison into a PNG, without a window");
+    command->footer("Draws Marching Cubes (left) and the relaxed SurfaceNet (right) under one "
+                    "camera, with the quality histograms and the metrics table. Needs no "
+                    "display.\n");
+    add_input_options(*command, args->input);
+    add_pipeline_options(*command, args->pipeline);
+    render::FigureOptions& f = args->figure;
+    const char* group = "Picture";
+    command->add_option("--out", args->out, "the picture to write (replaced atomically)")
+        ->required()
+        ->type_name("FILE.png")
+        ->group(group);
+    command->add_option("--width", f.width, "image width in pixels")
+        ->check(CLI::Range(16, 8192))
+        ->type_name("W")
+        ->capture_default_str()
+        ->group(group);
+    command->add_option("--height", f.height, "image height in pixels")
+        ->check(CLI::Range(16, 8192))
+        ->type_name("H")
+        ->capture_default_str()
+        ->group(group);
+    add_name_option(*command, "--view", f.view, "camera preset framing the meshes")->group(group);
+    command->add_option("--zoom", f.zoom, "move the camera Z times closer, for close-ups")
+        ->check(CLI::PositiveNumber)
+        ->type_name("Z")
+        ->capture_default_str()
+        ->group(group);
+    add_name_option(*command, "--shading", f.style.shading,
+                    "facets, smooth surface, or colour by triangle quality (smallest / largest "
+                    "angle)")
+        ->group(group);
+    command
+        ->add_option("--threshold", f.style.quality_threshold,
+                     "quality shading: triangles with quality under Q in red")
+        ->check(CLI::Range(0.0, 1.0))
+        ->type_name("Q")
+        ->capture_default_str()
+        ->group(group);
+    command->add_flag("--wireframe", f.style.wireframe, "draw the triangle edges over the surface")
+        ->group(group);
+    add_name_option(*command, "--layout", args->layout,
+                    "the whole figure, the two views only, or a single view")
+        ->group(group);
+    args->o_iteration =
+        command
+            ->add_option("--iteration", args->iteration,
+                         "show the net after K relaxation iterations (0: the initial net); "
+                         "sets --iterations K and --epsilon 0")
+            ->check(CLI::Range(0, 100000))
+            ->type_name("K")
+            ->group(group);
+    args->o_iteration->excludes(args->pipeline.o_iterations);
+    args->o_iteration->excludes(args->pipeline.o_epsilon);
+    std::vector<std::string> backends = render::offscreen_backends();
+    backends.push_back("auto");
+    CLI::Validator backend = CLI::IsMember(backends);
+    backend.description("");
+    std::string backend_names;
+    for (const std::string& b : backends) backend_names += (backend_names.empty() ? "" : "|") + b;
+    command->add_option("--gl", args->gl, "offscreen OpenGL (auto: OSMesa, else EGL)")
+        ->check(backend)
+        ->type_name(backend_names)
+        ->capture_default_str()
+        ->group(group);
+    command->add_option("--samples", f.samples, "multisampling: samples per pixel")
+        ->check(CLI::Range(1, 16))
+        ->type_name("N")
+        ->capture_default_str()
+        ->group(group);
+    command
+        ->add_flag("--no-caption", args->no_caption,
+                   "leave out the line describing input and parameters")
+        ->group(group);
+
+    return [args] {
+        // Everything about the picture is checked before any work.
+        const InputChoice choice = input_choice(args->input);
+        check_output(args->out, {".png"});
+        render::FigureOptions figure = args->figure;
+        figure.layout = figure_layout(args->layout);
+        const bool captioned = !args->no_caption;
+        const bool two_views =
+            args->layout == RenderLayout::Comparison || args->layout == RenderLayout::Views;
+        try {
+            render::layout_figure(figure.width, figure.height, two_views ? 2 : 1, figure.layout,
+                                  figure.style.shading == render::Shading::Quality, captioned);
+        } catch (const std::invalid_argument& e) {
+            throw CLI::ValidationError("--width/--height", e.what());
+        }
+        // Fails early (and clearly) when no offscreen OpenGL is available.
+        const std::unique_ptr<render::GlContext> context =
+            render::create_offscreen_context(args->gl);
+
+        const Source source = open_input(choice);
+        const float iso = choice.iso.value_or(source.suggested_iso);
+        const InsideIs inside = choice.inside.value_or(source.suggested_inside);
+        PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
+        std::optional<int> iteration;
+        if (args->o_iteration->count()) {
+            iteration = args->iteration;
+            pipeline.relax.max_iterations = args->iteration;
+            pipeline.relax.epsilon = 0.0f; // exactly K iterations, however small the moves
+        }
+        const Method net = method_of(pipeline.relax.mode);
+        const Measured m = measured(source, iso);
+
+        std::vector<MethodResult> results;
+        if (args->layout != RenderLayout::Net)
+            results.push_back(run_source_method(Method::MarchingCubes, source, pipeline, m));
+        if (args->layout != RenderLayout::Mc)
+            results.push_back(run_source_method(net, source, pipeline, m));
+        for (const MethodResult& r : results) require_surface(r, m);
+        measure_against_marching_cubes(results, *source.volume);
+
+        std::vector<render::FigureMethod> methods;
+        methods.reserve(results.size());
+        for (const MethodResult& r : results)
+            methods.push_back(
+                {r.method, r.method == Method::MarchingCubes ? "" : net_title(r.method, iteration),
+                 &r.mesh, &r.metrics});
+        if (captioned)
+            figure.caption = caption(source, iso, inside, pipeline, net, iteration.has_value(), m);
+        const render::Image image = render::render_figure(methods, figure);
+        render::write_png(args->out, image);
+        std::cerr << "wrote " << args->out << ": " << image.width << "x" << image.height << " ("
+                  << context->backend() << ")\n";
         return 0;
-    }
-
-    // Everything about the picture is checked before any work.
-    const auto out = args.value("out");
-    if (!out) throw UsageError("missing --out FILE.png");
-    if (!ends_with_png(*out)) throw UsageError("--out must name a .png file, not '" + *out + "'");
-    const std::filesystem::path folder = std::filesystem::path(*out).parent_path();
-    if (!folder.empty() && !std::filesystem::is_directory(folder))
-        throw std::runtime_error(*out + ": the folder " + folder.string() + " does not exist");
-    render::FigureOptions figure;
-    figure.width = args.integer("width", 1200, 16, 8192);
-    figure.height = args.integer("height", 900, 16, 8192);
-    figure.view =
-        *render::parse_view_preset(args.choice("view", "iso", {"front", "side", "top", "iso"}));
-    figure.zoom = args.number("zoom", 1.0f);
-    if (!(figure.zoom > 0.0f) || !std::isfinite(figure.zoom))
-        throw UsageError("--zoom must be a positive number");
-    figure.style.shading =
-        *render::parse_shading(args.choice("shading", "smooth", {"flat", "smooth", "quality"}));
-    figure.style.quality_threshold = args.number("threshold", 0.25f);
-    if (!(figure.style.quality_threshold >= 0.0f && figure.style.quality_threshold <= 1.0f))
-        throw UsageError("--threshold must be in [0, 1]");
-    figure.style.wireframe = args.flag("wireframe");
-    figure.samples = args.integer("samples", 4, 1, 16);
-    const std::string layout =
-        args.choice("layout", "comparison", {"comparison", "views", "mc", "net"});
-    figure.layout =
-        layout == "comparison" ? render::FigureLayout::Comparison : render::FigureLayout::Views;
-    const std::string gl = args.choice("gl", "auto", {"osmesa", "egl", "auto"});
-    const int iteration = args.integer("iteration", 0, 0, 100000);
-    if (args.has("iteration") && args.has("iterations"))
-        throw UsageError("give --iteration or --iterations, not both");
-    if (args.has("iteration") && args.has("epsilon"))
-        throw UsageError("--iteration sets --epsilon 0; give one of them");
-    const bool captioned = !args.flag("no-caption");
-    // An image too small for the layout is a usage error; found before any work.
-    render::layout_figure(figure.width, figure.height,
-                          layout == "comparison" || layout == "views" ? 2 : 1, figure.layout,
-                          figure.style.shading == render::Shading::Quality, captioned);
-    // Fails early (and clearly) when no offscreen OpenGL is available.
-    const std::unique_ptr<render::GlContext> context = render::create_offscreen_context(gl);
-
-    const Input input = load_input(args);
-    PipelineOptions pipeline = pipeline_options(args, input);
-    if (args.has("iteration")) {
-        pipeline.relax.max_iterations = iteration;
-        pipeline.relax.epsilon = 0.0f; // exactly K iterations, however small the moves
-    }
-    const Method net = method_of(pipeline.relax.mode);
-
-    std::vector<MethodResult> results;
-    if (layout != "net") results.push_back(run_method(input, pipeline, Method::MarchingCubes));
-    if (layout != "mc") results.push_back(run_method(input, pipeline, net));
-    for (const MethodResult& r : results) require_surface(r, input);
-
-    std::vector<render::FigureMethod> methods;
-    methods.reserve(results.size());
-    for (const MethodResult& r : results)
-        methods.push_back({r.method,
-                           r.method == Method::MarchingCubes ? "" : net_title(r.method, args, iteration),
-                           &r.mesh, &r.metrics});
-    if (captioned) figure.caption = caption(input, pipeline, net, args);
-    const render::Image image = render::render_figure(methods, figure);
-    render::write_png(*out, image);
-    std::cerr << "wrote " << *out << ": " << image.width << "x" << image.height << " ("
-              << context->backend() << ")\n";
-    return 0;
+    };
 }
 
 } // namespace snert::cli

@@ -1,54 +1,63 @@
 // snert table1: the paper's Table 1 measured on the plane, sphere and two-spheres phantoms.
 #include <iostream>
+#include <memory>
 
 #include "commands.h"
-#include "core/phantom.h"
-#include "methods.h"
+#include "options.h"
+#include "report.h"
 
 namespace snert::cli {
 
-int run_table1(const std::vector<std::string>& argv) {
-    std::set<std::string> options = pipeline_option_names();
-    options.erase("mode");
-    options.insert("size");
-    options.insert("json");
-    const Args args(argv, options, {"help"});
-    if (args.flag("help")) {
-        std::cout << "usage: snert table1 [--size N] [--json FILE] [relaxation options of "
-                     "compare]\n";
-        return 0;
-    }
-    if (!args.positional().empty())
-        throw UsageError("unexpected argument '" + args.positional().front() + "'");
-    const int size = args.integer("size", 64, 8, 1024);
-    nlohmann::json json;
-    for (const char* name : {"plane", "sphere", "two-spheres"}) {
-        Phantom phantom = make_phantom(name, size);
-        Input input;
-        input.name = std::string("phantom:") + name;
-        input.iso = phantom.iso;
-        input.reference = phantom.reference_distance;
-        input.analytic_reference = true;
-        input.reference_volume = phantom.reference_volume;
-        input.volume = std::move(phantom.volume);
-        const PipelineOptions pipeline = pipeline_options(args, input);
-        std::vector<MethodResult> results;
-        std::string key = name;
-        if (key == "two-spheres") key = "two_spheres";
-        for (const Method method : {Method::MarchingCubes, Method::Sna, Method::Snert}) {
-            results.push_back(run_method(input, pipeline, method));
-            json[key][std::string(name_of(method))] = method_json(results.back(), input);
+Runner add_table1(CLI::App& app) {
+    struct Args {
+        int size = 64;
+        PipelineArgs pipeline;
+        std::string json;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* command = app.add_subcommand(
+        "table1", "the paper's Table 1 measured on the plane, sphere and two-spheres phantoms");
+    command->add_option("--size", args->size, "phantom grid size N (N^3 voxels)")
+        ->check(CLI::Range(8, 1024))
+        ->type_name("N")
+        ->capture_default_str();
+    // Table 1 compares MC, SNA and SNERT: no --mode.
+    add_pipeline_options(*command, args->pipeline, false);
+    add_json_option(*command, args->json);
+    return [args] {
+        if (!args->json.empty() && args->json != "-") check_output(args->json, {".json"});
+        std::ostream& table = args->json == "-" ? std::cerr : std::cout;
+        nlohmann::json json;
+        nlohmann::json phantoms = nlohmann::json::array();
+        for (const char* name : {"plane", "sphere", "two-spheres"}) {
+            InputChoice choice;
+            choice.spec.input = std::string("phantom:") + name;
+            choice.spec.phantom_size = args->size;
+            const Source source = open_input(choice);
+            const float iso = source.suggested_iso;
+            const PipelineOptions pipeline =
+                pipeline_options(args->pipeline, iso, source.suggested_inside);
+            const Measured m = measured(source, iso);
+            std::vector<MethodResult> results;
+            std::string key = name;
+            if (key == "two-spheres") key = "two_spheres";
+            for (const Method method : compared_methods(std::nullopt))
+                results.push_back(run_source_method(method, source, pipeline, m));
+            measure_against_marching_cubes(results, *source.volume);
+            for (const MethodResult& r : results)
+                json[key][std::string(name_of(r.method))] = method_json(r, m);
+            nlohmann::json entry = input_json(source);
+            entry["iso"] = iso;
+            phantoms.push_back(std::move(entry));
+            print_table(table, m.name + " " + std::to_string(args->size) + "^3", results, m);
+            table << "\n";
         }
-        print_table(std::cout, input.name + " " + std::to_string(size) + "^3", results, input);
-        std::cout << "\n";
-    }
-    std::cout
-        << "q = smallest/largest angle (paper), q60 = smallest angle/60 deg, r_ratio = 2r/R;\n"
-           "smooth = mean |2pi - angle sum| (rad); accV/accF = mean distance of vertices /"
-           " face centres\nto the exact surface (voxels); vol_err = enclosed volume vs the"
-           " exact one.\n";
-    if (auto path = args.value("json")) write_json(*path, json);
-    return 0;
+        json["provenance"] =
+            provenance_json("table1", {{"phantoms", phantoms}}, std::nullopt, std::nullopt,
+                            pipeline_options(args->pipeline, 0.0f, InsideIs::Above).relax);
+        if (!args->json.empty()) write_json(args->json, json);
+        return 0;
+    };
 }
 
 } // namespace snert::cli

@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "input_error.h"
+
 namespace snert {
 
 // ---------------------------------------------------------------------------------------------
@@ -518,9 +520,9 @@ class Extractor {
             vertex_offset_[std::size_t(z) + 1] = vertex_offset_[std::size_t(z)] + c.xy + c.z;
         }
         if (vertex_offset_.back() > std::numeric_limits<std::uint32_t>::max())
-            throw std::runtime_error("marching cubes: the mesh would have " +
-                                     std::to_string(vertex_offset_.back()) +
-                                     " vertices, more than 32-bit indices can address");
+            throw InputError("marching cubes: the mesh would have " +
+                             std::to_string(vertex_offset_.back()) +
+                             " vertices, more than 32-bit indices can address");
         triangle_offset_.assign(std::size_t(slabs) + 1, 0);
         for (int z = 0; z < slabs; ++z)
             triangle_offset_[std::size_t(z) + 1] =

@@ -41,29 +41,50 @@ constexpr Named<TriangulationRule> kTriangulations[] = {
 
 Method method_of(RelaxMode mode) {
     switch (mode) {
-    case RelaxMode::Averaging: return Method::Sna;
-    case RelaxMode::Gradient: return Method::Gradient;
-    case RelaxMode::Snert: return Method::Snert;
+    case RelaxMode::Averaging:
+        return Method::Sna;
+    case RelaxMode::Gradient:
+        return Method::Gradient;
+    case RelaxMode::Snert:
+        return Method::Snert;
     }
     return Method::Snert;
 }
 
 std::optional<RelaxMode> relax_mode_of(Method method) {
     switch (method) {
-    case Method::MarchingCubes: return std::nullopt;
-    case Method::Sna: return RelaxMode::Averaging;
-    case Method::Gradient: return RelaxMode::Gradient;
-    case Method::Snert: return RelaxMode::Snert;
+    case Method::MarchingCubes:
+        return std::nullopt;
+    case Method::Sna:
+        return RelaxMode::Averaging;
+    case Method::Gradient:
+        return RelaxMode::Gradient;
+    case Method::Snert:
+        return RelaxMode::Snert;
     }
     return std::nullopt;
 }
 
-std::span<const Named<Method>> name_table(Method) { return kMethods; }
-std::span<const Named<InsideIs>> name_table(InsideIs) { return kInside; }
-std::span<const Named<RelaxMode>> name_table(RelaxMode) { return kModes; }
-std::span<const Named<Schedule>> name_table(Schedule) { return kSchedules; }
-std::span<const Named<Constraint>> name_table(Constraint) { return kConstraints; }
-std::span<const Named<GradientMethod>> name_table(GradientMethod) { return kGradients; }
-std::span<const Named<TriangulationRule>> name_table(TriangulationRule) { return kTriangulations; }
+std::span<const Named<Method>> name_table(Method) {
+    return kMethods;
+}
+std::span<const Named<InsideIs>> name_table(InsideIs) {
+    return kInside;
+}
+std::span<const Named<RelaxMode>> name_table(RelaxMode) {
+    return kModes;
+}
+std::span<const Named<Schedule>> name_table(Schedule) {
+    return kSchedules;
+}
+std::span<const Named<Constraint>> name_table(Constraint) {
+    return kConstraints;
+}
+std::span<const Named<GradientMethod>> name_table(GradientMethod) {
+    return kGradients;
+}
+std::span<const Named<TriangulationRule>> name_table(TriangulationRule) {
+    return kTriangulations;
+}
 
 } // namespace snert

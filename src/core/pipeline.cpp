@@ -1,6 +1,7 @@
 // The comparison pipeline shared by the CLI, the renderer and the app.
 #include "pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -17,23 +18,26 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 } // namespace
 
-DistanceFunction first_order_distance(const Volume& volume, float iso) {
+DistanceFunction first_order_distance(std::shared_ptr<const Volume> volume, float iso) {
+    if (!volume) return {};
     // |I(p) - iso| / |grad I(p)|: the distance to the iso-surface if the field were linear.
-    return [&volume, iso](glm::vec3 p) {
-        const float difference = std::abs(sample_trilinear(volume, p) - iso);
-        const float slope = glm::length(gradient_central(volume, p));
+    return [volume, iso](glm::vec3 p) {
+        const float difference = std::abs(sample_trilinear(*volume, p) - iso);
+        const float slope = glm::length(gradient_central(*volume, p));
         return slope > 1e-12f ? difference / slope : 0.0f;
     };
 }
 
 MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
-                      const DistanceFunction& reference) {
+                      const DistanceFunction& reference, const MeasureOptions& what) {
     MethodMetrics m;
     const Mesh world = mesh_to_world(index_mesh, volume);
     m.vertices = world.vertex_count();
     m.triangles = world.triangle_count();
     m.quality = quality_stats(world);
     m.smoothness = smoothness(world);
+    if (reference) m.accuracy = accuracy(index_mesh, reference, &world);
+    if (what.convergence_only) return m;
     m.topology = topology(world);
     if (m.topology.boundary_edges > 0)
         m.boundary_edges_off_border = boundary_edges_off_border(index_mesh, volume.dims);
@@ -44,7 +48,10 @@ MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
                  m.self_intersections == 0 && m.quality.degenerate == 0;
     m.area = surface_area(world);
     m.volume = enclosed_volume(world);
-    if (reference) m.accuracy = accuracy(index_mesh, reference, &world);
+    // In index space, the reference's unit (the world volume differs by the voxel volume).
+    if (what.reference_volume > 0)
+        m.volume_error =
+            (enclosed_volume(index_mesh) - what.reference_volume) / what.reference_volume;
     return m;
 }
 
@@ -55,7 +62,7 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
     const double ms = elapsed_ms(start);
     MethodResult result;
     result.method = Method::MarchingCubes;
-    result.metrics = measure(mesh, volume, reference);
+    result.metrics = measure(mesh, volume, reference, options.measure);
     result.metrics.ms = ms;
     result.mesh = mesh_to_world(mesh, volume);
     return result;
@@ -64,15 +71,23 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
 MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress) {
+    return run_surface_net(grey, segmentation, options, reference, progress, NetObserver{});
+}
+
+MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
+                             const PipelineOptions& options, const DistanceFunction& reference,
+                             const Progress& progress, const NetObserver& observer) {
     const auto start = std::chrono::steady_clock::now();
-    SurfaceNet net = build_surface_net(segmentation, progress);
-    const GreyField field = make_grey_field(grey, options.relax);
-    const RelaxResult relaxed = relax(net, &field, options.relax, {}, progress);
-    Mesh mesh = triangulate(net, relaxed.positions, options.relax.triangulation, grey.spacing);
+    const auto net = std::make_shared<const SurfaceNet>(build_surface_net(segmentation, progress));
+    const auto field = std::make_shared<const GreyField>(make_grey_field(grey, options.relax));
+    if (observer.on_net) observer.on_net(net, field);
+    const RelaxResult relaxed = relax(*net, field.get(), options.relax, observer.on_iteration,
+                                      observer.relax_progress.value_or(progress));
+    Mesh mesh = triangulate(*net, relaxed.positions, options.relax.triangulation, grey.spacing);
     const double ms = elapsed_ms(start);
     MethodResult result;
     result.method = method_of(options.relax.mode);
-    result.metrics = measure(mesh, grey, reference);
+    result.metrics = measure(mesh, grey, reference, options.measure);
     result.metrics.ms = ms;
     result.metrics.iterations = int(relaxed.max_moves.size());
     result.metrics.converged = relaxed.converged;
@@ -80,6 +95,51 @@ MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentatio
     result.metrics.shortened_moves = relaxed.shortened_moves;
     result.mesh = mesh_to_world(mesh, grey);
     return result;
+}
+
+MethodResult run_method(Method method, const Volume& grey, const Segmentation* mask,
+                        const PipelineOptions& base, const DistanceFunction& reference,
+                        const Progress& progress) {
+    PipelineOptions options = base;
+    options.relax.iso = base.iso;
+    if (const auto mode = relax_mode_of(method)) options.relax.mode = *mode;
+    if (mask) {
+        // The label's mask decides the topology; MC runs on it at 0.5 as 3D Slicer does.
+        if (method == Method::MarchingCubes) {
+            options.iso = 0.5f;
+            options.inside = InsideIs::Above;
+            return run_marching_cubes(mask_volume(*mask, grey), options, reference, progress);
+        }
+        return run_surface_net(grey, *mask, options, reference, progress);
+    }
+    if (method == Method::MarchingCubes)
+        return run_marching_cubes(grey, options, reference, progress);
+    const Segmentation segmentation = segment_threshold(grey, options.iso, options.inside);
+    return run_surface_net(grey, segmentation, options, reference, progress);
+}
+
+namespace {
+
+Mesh mesh_to_index(const Mesh& world, const Volume& volume) {
+    Mesh index = world;
+    for (glm::vec3& p : index.positions) p = world_to_index(volume, p);
+    return index;
+}
+
+} // namespace
+
+void measure_against_marching_cubes(std::span<MethodResult> results, const Volume& volume) {
+    const auto mc = std::find_if(results.begin(), results.end(), [](const MethodResult& r) {
+        return r.method == Method::MarchingCubes;
+    });
+    if (mc == results.end() || mc->mesh.triangle_count() == 0) return;
+    // Built once and shared by every net; queries are thread-safe (metrics.h).
+    const MeshDistance to_mc(mesh_to_index(mc->mesh, volume));
+    for (MethodResult& r : results) {
+        if (r.method == Method::MarchingCubes || r.mesh.triangle_count() == 0) continue;
+        r.metrics.to_marching_cubes = accuracy(
+            mesh_to_index(r.mesh, volume), [&](glm::vec3 p) { return to_mc(p); }, &r.mesh);
+    }
 }
 
 } // namespace snert

@@ -8,7 +8,10 @@
 // (index space), the paper's unit.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "marching_cubes.h"
@@ -24,10 +27,24 @@
 
 namespace snert {
 
+// What measure() measures, beyond what every mesh gets.
+struct MeasureOptions {
+    // Volume enclosed by the reference surface (voxels^3, index space); 0: unknown, and
+    // MethodMetrics::volume_error stays empty.
+    double reference_volume = 0.0;
+    // Only what the app's convergence plots show after every iteration: the counts, quality,
+    // smoothness and accuracy; the checks (topology, border, self-intersections, FE-readiness),
+    // area, volume and volume error keep their defaults.
+    bool convergence_only = false;
+    bool operator==(const MeasureOptions&) const = default;
+};
+
 struct PipelineOptions {
     float iso = 0.0f; // Marching Cubes' iso (0.5 on a label mask)
     InsideIs inside = InsideIs::Above;
-    RelaxOptions relax; // relax.iso: the grey iso of the gradient term (eq. 3)
+    RelaxOptions relax;     // relax.iso: the grey iso of the gradient term (eq. 3)
+    MeasureOptions measure; // how run_marching_cubes and run_surface_net measure their mesh
+    bool operator==(const PipelineOptions&) const = default;
 };
 
 // What an FE mesher needs of a surface (DESIGN.md, issue 8), all of it measured by measure():
@@ -43,7 +60,14 @@ struct MethodMetrics {
     std::size_t self_intersections = 0;        // intersecting triangle pairs, as TetGen -d (best 0)
     bool fe_ready = false;                     // all of the above, see the comment on the struct
     double area = 0, volume = 0;               // world units
-    double ms = 0;                             // time to build the mesh
+    // (enclosed volume - reference volume) / reference volume, both in index space (voxels^3);
+    // empty where the reference's volume is unknown (MeasureOptions::reference_volume).
+    std::optional<double> volume_error;
+    // Distance to the Marching Cubes surface of the same comparison (voxel units, index space):
+    // how far a net moved from MC's iso-surface, on real data where no exact surface exists.
+    // Set by measure_against_marching_cubes() on the nets; empty for MC itself.
+    std::optional<Accuracy> to_marching_cubes;
+    double ms = 0; // time to build the mesh
     // Relaxation, for the nets (left at these defaults for Marching Cubes).
     int iterations = 0;              // relaxation iterations done
     bool converged = false;          // stopped because the largest move fell under epsilon
@@ -53,18 +77,21 @@ struct MethodMetrics {
 
 struct MethodResult {
     Method method = Method::MarchingCubes;
-    Mesh mesh;        // world units
+    Mesh mesh; // world units
     MethodMetrics metrics;
 };
 
 // A reference for accuracy: an unsigned distance in voxel units (index space). For phantoms the
-// analytic surface; for real data the first-order distance |I(p) - iso| / |grad I(p)|.
-DistanceFunction first_order_distance(const Volume& volume, float iso);
+// analytic surface; for real data the first-order distance |I(p) - iso| / |grad I(p)|. The
+// function shares ownership of the volume, so it stays valid however long it is kept.
+DistanceFunction first_order_distance(std::shared_ptr<const Volume> volume, float iso);
 
 // Measures a mesh given in index space; the mesh's world copy is used for angles and areas (and
-// the areas that weight the surface accuracy), the index-space mesh for accuracy and the border.
+// the areas that weight the surface accuracy), the index-space mesh for accuracy, the border
+// and the volume error. The one measurement of every mesh: the pipeline's, and the app's frames
+// and convergence numbers. Leaves ms and the relaxation fields at their defaults.
 MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
-                      const DistanceFunction& reference);
+                      const DistanceFunction& reference, const MeasureOptions& what = {});
 
 // Marching Cubes, measured.
 MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
@@ -75,5 +102,39 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
 MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress = {});
+
+// What a caller sees of run_surface_net while it runs (the app's worker); every member optional.
+struct NetObserver {
+    // Once the net is built and the gradient field made, before the first iteration. Both are
+    // shared, so the observer may keep them to redo or continue iterations later (relax_step,
+    // relax() with a RelaxStart); the field points to the call's `grey`.
+    std::function<void(std::shared_ptr<const SurfaceNet> net,
+                       std::shared_ptr<const GreyField> field)>
+        on_net;
+    IterationCallback on_iteration; // every iteration's positions (relax()); false stops
+    // The relaxation's progress; the call's `progress` then covers building the net only.
+    std::optional<Progress> relax_progress;
+};
+
+// run_surface_net, observed: the same result, with `observer` told of the net and of every
+// iteration as they happen.
+MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
+                             const PipelineOptions& options, const DistanceFunction& reference,
+                             const Progress& progress, const NetObserver& observer);
+
+// One method on one volume, as the CLI, the renderer and the app run it. `options.iso` is the
+// grey iso (also the gradient term's: relax.iso is set to it) and `method` picks the net's
+// mode. Without `mask` the grey values are thresholded at options.iso / options.inside; with
+// it, the mask (on the grey image's grid) gives the topology: Marching Cubes runs on the mask
+// at 0.5, as 3D Slicer does, and the net's gradient term uses the grey values.
+MethodResult run_method(Method method, const Volume& grey, const Segmentation* mask,
+                        const PipelineOptions& options, const DistanceFunction& reference,
+                        const Progress& progress = {});
+
+// Fills MethodMetrics::to_marching_cubes of every net in `results` with its distance to the
+// Marching Cubes mesh among them (at the vertices, the face centres and over the surface, as
+// accuracy() measures). `volume` maps the world meshes back to index space. Nothing happens
+// without a Marching Cubes result or a net.
+void measure_against_marching_cubes(std::span<MethodResult> results, const Volume& volume);
 
 } // namespace snert

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "mesh_guard.h"
 #include "parallel.h"
@@ -232,12 +234,23 @@ float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOption
 }
 
 RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                  const IterationCallback& on_iteration, const Progress& progress) {
+                  const IterationCallback& on_iteration, const Progress& progress,
+                  const RelaxStart& start) {
     RelaxResult result;
-    result.positions = net.positions;
+    if (start.positions.empty()) {
+        result.positions = net.positions;
+    } else if (start.positions.size() != net.positions.size()) {
+        throw std::invalid_argument("relax: " + std::to_string(start.positions.size()) +
+                                    " start positions for a net of " +
+                                    std::to_string(net.positions.size()) + " nodes");
+    } else {
+        result.positions.assign(start.positions.begin(), start.positions.end());
+    }
     std::vector<glm::vec3> next(result.positions.size());
-    for (int it = 1; it <= options.max_iterations; ++it) {
-        progress.update(float(it - 1) / float(options.max_iterations));
+    const int done = start.iteration;
+    const int count = options.max_iterations - done;
+    for (int it = done + 1; it <= options.max_iterations; ++it) {
+        progress.update(float(it - 1 - done) / float(count));
         std::size_t shortened = 0;
         const float max_move =
             relax_step(net, grey, options, it, result.positions, next, &shortened);

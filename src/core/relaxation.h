@@ -54,6 +54,7 @@ struct RelaxOptions {
     // Refuse (shorten) moves that would make the triangulated net self-intersect or add a sliver
     // (mesh_guard.h). Off only to see what the paper's plain step does.
     bool keep_valid = true;
+    bool operator==(const RelaxOptions&) const = default;
 };
 
 // What the gradient term needs: the grey volume, and the gradient field when precomputed.
@@ -93,13 +94,25 @@ using IterationCallback =
 
 struct RelaxResult {
     std::vector<glm::vec3> positions;
-    std::vector<float> max_moves;    // per iteration
+    std::vector<float> max_moves;    // per iteration run by this call
     bool converged = false;          // stopped because max move < epsilon
     std::size_t shortened_moves = 0; // node moves shortened to keep the mesh valid, summed
 };
 
-// Runs iterations until max_iterations or convergence. `grey` may be null for Averaging.
+// Where relax() starts: the net's own positions (iteration 0), or the positions after
+// `iteration` iterations of an earlier relax() with the same net, field and options, to go on
+// from there. The iterations keep their numbers (the damping schedule goes on where it was),
+// so continuing equals one longer relaxation bit for bit.
+struct RelaxStart {
+    std::span<const glm::vec3> positions; // empty: net.positions; read before the first iteration
+    int iteration = 0;                    // iterations already done
+};
+
+// Runs iterations start.iteration + 1 .. options.max_iterations, or until the largest move
+// falls under options.epsilon. `grey` may be null for Averaging. Throws std::invalid_argument
+// when the start positions are not one per node.
 RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                  const IterationCallback& on_iteration = {}, const Progress& progress = {});
+                  const IterationCallback& on_iteration = {}, const Progress& progress = {},
+                  const RelaxStart& start = {});
 
 } // namespace snert

@@ -19,6 +19,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "input_error.h"
 #include "marching_cubes.h"
 
 namespace snert {
@@ -503,7 +504,8 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
     // Pass 2: prefix sum; output can now be allocated exactly.
     for (std::size_t r = 0; r < rows; ++r) {
         if (row_offsets[r + 1] > UINT32_MAX - row_offsets[r])
-            throw std::length_error("surface net has more than 2^32 nodes");
+            throw InputError("surface net: the net would have more than 2^32 nodes, more than "
+                             "32-bit indices can address");
         row_offsets[r + 1] += row_offsets[r];
     }
     const std::size_t nodes = row_offsets[rows];

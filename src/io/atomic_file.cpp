@@ -167,4 +167,21 @@ void write_path_atomically(const std::string& path,
     }
 }
 
+void check_writable(const std::string& path) {
+    if (path.empty()) throw std::runtime_error("empty output path");
+    const std::size_t slash = path.find_last_of('/');
+    const std::string folder =
+        slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    struct stat info {};
+    if (::stat(folder.c_str(), &info) != 0)
+        throw std::runtime_error(path + ": the folder " + folder + " does not exist (" +
+                                 errno_text(errno) + ")");
+    if (!S_ISDIR(info.st_mode)) throw std::runtime_error(path + ": " + folder + " is not a folder");
+    if (::access(folder.c_str(), W_OK | X_OK) != 0)
+        throw std::runtime_error(path + ": the folder " + folder + " is not writable (" +
+                                 errno_text(errno) + ")");
+    if (slash + 1 == path.size() || (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)))
+        throw std::runtime_error(path + ": is a folder, not a file");
+}
+
 } // namespace snert

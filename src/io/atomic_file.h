@@ -29,4 +29,9 @@ void write_file_atomically(const std::string& path,
 void write_path_atomically(const std::string& path,
                            const std::function<void(const std::string& temporary_path)>& write);
 
+// Whether `path` can be written, checked before the work that produces it: its folder exists,
+// is a folder and is writable (a temporary file can be created there), and `path` is not
+// itself a folder. Throws std::runtime_error "PATH: reason" otherwise. Nothing is created.
+void check_writable(const std::string& path);
+
 } // namespace snert

@@ -5,7 +5,8 @@
 //   NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz (and Analyze .hdr/.img), MetaImage .mha/.mhd,
 //   VTK legacy structured points .vtk, and DICOM: a folder holding a series (the largest one,
 //   or the one whose SeriesInstanceUID is given) or one .dcm file of a series.
-// Headerless raw data (one file, or a numbered series of slice files) has its own reader.
+// Headerless raw data (one file, or a numbered series of slice files) has its own reader,
+// raw_volume.h; the DICOM series of a folder are listed by dicom_series.h.
 //
 // Result, for every format:
 //  - samples are float32, x fastest; stored types uint8 .. float64 are converted exactly where
@@ -17,7 +18,7 @@
 //  - a scalar volume: files with several components per voxel (RGB, vectors, tensors) and 4-D
 //    series with more than one time point are refused.
 //
-// NaN / infinity policy (float data only; integer types cannot hold them):
+// NaN / infinity policy (float data only; integer types cannot hold them; volume_checks.h):
 //  - default (NonFinitePolicy::Replace): every NaN and -inf becomes the smallest finite sample,
 //    every +inf the largest finite sample, so they read as background / brightest tissue and
 //    no NaN reaches a mesh, a gradient or a metric. The counts are reported in
@@ -33,6 +34,8 @@
 // sample count that overflows) are refused first. Stored values are read straight into the
 // float32 grid and converted in place, so a 512x512x400 int16 CT needs the 400 MiB grid and
 // no second full-size copy (NRRD, NIfTI, MetaImage, VTK, raw; DICOM is read slice by slice).
+// The checks themselves: sizes.h, and one header per format (nifti.h, nrrd.h, metaimage.h,
+// vtk_legacy.h, dicom_pixel_data.h).
 //
 // DICOM: slices are sorted by position along the slice normal (GDCM); the z spacing comes from
 // the positions, and a series whose slices are not evenly spaced (a missing or skipped file) is
@@ -46,61 +49,22 @@
 #pragma once
 
 #include <cstddef>
-#include <cstdint>
 #include <string>
-#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "core/progress.h"
 #include "core/volume.h"
+#include "sample_conversion.h"
+#include "volume_checks.h"
 
 namespace snert {
-
-// Stored sample types, as found in files (raw data names them on the command line).
-enum class ScalarType {
-    UInt8,
-    Int8,
-    UInt16,
-    Int16,
-    UInt32,
-    Int32,
-    UInt64,
-    Int64,
-    Float32,
-    Float64
-};
-
-const char* scalar_type_name(ScalarType type); // "uint8", "int16", "float32", ...
-std::size_t scalar_type_size(ScalarType type); // bytes per sample
-// Parses a name from scalar_type_name(); throws std::invalid_argument listing the valid names.
-ScalarType parse_scalar_type(const std::string& name);
-
-enum class Endian { Little, Big };
-Endian parse_endian(const std::string& name); // "little" | "big", else std::invalid_argument
-
-enum class NonFinitePolicy {
-    Replace, // NaN, -inf -> smallest finite sample; +inf -> largest finite sample (default)
-    Refuse,  // any NaN or inf fails the load
-};
 
 struct LoadOptions {
     std::string dicom_series_uid;       // DICOM folder: this SeriesInstanceUID; empty: largest
     std::size_t memory_limit_bytes = 0; // refuse grids larger than this; 0: MemAvailable
     NonFinitePolicy nonfinite = NonFinitePolicy::Replace;
     Progress progress; // reports per slab / slice; cancels by Cancelled
-};
-
-// Headerless raw samples: one file of dims.x*dims.y*dims.z samples (its size must match
-// exactly), or a numbered series of slice files, each dims.x*dims.y samples. A series is
-// recognised when `path` names a file of exactly one slice whose name holds a number
-// (quarter.1, IM-0001.raw): the following slices are the same name with the number counting
-// up (quarter.2 ... quarter.93; zero padding, as in 0001, is kept).
-struct RawOptions {
-    glm::ivec3 dims{0}; // samples along x, y, z (each >= 1)
-    ScalarType type = ScalarType::UInt8;
-    glm::vec3 spacing{1.0f};        // millimetres, each > 0
-    Endian endian = Endian::Little; // byte order of multi-byte samples
 };
 
 // What the app's open panel and the CLI show about a loaded volume.
@@ -127,40 +91,8 @@ struct LoadedVolume {
 LoadedVolume open_volume(const std::string& path, const LoadOptions& options = {});
 Volume load_volume(const std::string& path, const LoadOptions& options = {});
 
-// Loads headerless raw data (one file or a numbered slice series, see RawOptions).
-LoadedVolume open_raw(const std::string& path, const RawOptions& raw,
-                      const LoadOptions& options = {});
-Volume load_raw(const std::string& path, const RawOptions& raw, const LoadOptions& options = {});
-
-// The DICOM series in a folder, largest first. The folder is scanned in a child process, so a
-// damaged file cannot take the caller down. Throws std::invalid_argument when `folder` is not
-// a folder, std::runtime_error when the scan fails; an empty list means no DICOM.
-// A series whose files differ in orientation or size is split by GDCM into parts that share
-// one uid; LoadOptions::dicom_series_uid then picks the largest part.
-struct DicomSeries {
-    std::string uid; // SeriesInstanceUID (0020,000E): what LoadOptions takes
-    std::size_t files = 0;
-    std::string description; // SeriesDescription (0008,103E), may be empty
-};
-std::vector<DicomSeries> list_dicom_series(const std::string& folder);
-
-// ---- NaN / infinity policy -----------------------------------------------------------------
-
-struct NonFiniteCount {
-    std::size_t nan = 0, positive_infinity = 0, negative_infinity = 0;
-    std::size_t total() const { return nan + positive_infinity + negative_infinity; }
-};
-// Applies the policy described at the top of this header to the samples; `name` starts the
-// error message. Returns what was found (and, for Replace, replaced).
-NonFiniteCount apply_nonfinite_policy(Volume& volume, NonFinitePolicy policy,
-                                      const std::string& name);
-
-// ---- Label maps beside a grey image ----------------------------------------------------------
-
-// Throws std::invalid_argument when the two volumes do not share one grid: same dims, spacing
-// and origin equal within 1e-3 of the smallest voxel size, direction columns within 1e-3. The
-// message names both files, says what differs and gives both grids.
-void check_same_grid(const Volume& grey, const std::string& grey_name, const Volume& labels,
-                     const std::string& labels_name);
-
 } // namespace snert
+
+// Headerless raw data (RawOptions, open_raw, load_raw) for the callers that take every kind of
+// input. Included last: raw_volume.h needs LoadOptions and LoadedVolume from above.
+#include "raw_volume.h"

@@ -11,7 +11,8 @@
 //   .off  "OFF", "V F 0", vertex lines, then "3 a b c" (0-based);
 //   .vtk  legacy 3.0 ASCII POLYDATA: POINTS (float) and POLYGONS with inline counts.
 // Text numbers are the shortest decimal that reads back to the same float (std::to_chars), so
-// every format but STL (which has no shared vertices) round-trips the Mesh exactly.
+// every format but STL (which has no shared vertices) round-trips the Mesh exactly. snert
+// reads no mesh files; the tests read these back with tests/support/read_mesh.h.
 #pragma once
 
 #include <string>
@@ -30,15 +31,5 @@ MeshFormat mesh_format_from_path(const std::string& path);
 // for an unknown extension or an index out of range.
 void write_mesh(const Mesh& mesh, const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format);
-
-// Reads what write_mesh wrote (for round-trip tests and for comparing meshes), and the usual
-// variants from other tools: ASCII STL; OBJ with texture/normal references, negative indices
-// and polygons; ASCII and big-endian PLY with any properties; OFF with comments and colours;
-// VTK 5.1 (OFFSETS/CONNECTIVITY) and triangle strips. Polygons are split into fans. STL corners
-// with identical positions are merged, so the result is an indexed mesh. Every count in a file
-// is checked against the file's size before memory is reserved. Throws std::runtime_error
-// "PATH: [line N: ]reason" for a missing, truncated or malformed file, and
-// std::invalid_argument for an unknown extension.
-Mesh read_mesh(const std::string& path);
 
 } // namespace snert

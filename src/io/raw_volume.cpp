@@ -3,15 +3,20 @@
 // Nothing in a raw file says what it holds, so the sizes are the only check there is: a single
 // file must hold exactly dims.x * dims.y * dims.z samples, each slice file of a series exactly
 // one slice. Anything else is refused before the grid is allocated, naming the sizes.
+#include "raw_volume.h"
+
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include <unistd.h>
 
-#include "load_volume.h"
-#include "volume_headers.h"
+#include "file_bytes.h"
+#include "numbered_series.h"
+#include "sizes.h"
+#include "volume_checks.h"
 
 namespace snert {
 

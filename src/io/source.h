@@ -22,13 +22,13 @@ namespace snert {
 
 // What to open. Compared whole (operator==): the app reloads only when this changes.
 struct SourceSpec {
-    std::string input;                // "phantom:NAME", a volume file, a DICOM folder or a .dcm
-    int phantom_size = 64;            // grid size of a phantom (phantoms only)
-    std::optional<RawOptions> raw;    // headerless raw data: how to read `input`
-    std::string series_uid;           // DICOM folder: this SeriesInstanceUID; empty: the largest
-    std::string labels;               // a label map on the same grid; empty: threshold the grey
-    std::optional<int> label;         // the label to extract from `labels`
-    std::size_t memory_limit = 0;     // bytes a volume may take; 0: what the machine has
+    std::string input;             // "phantom:NAME", a volume file, a DICOM folder or a .dcm
+    int phantom_size = 64;         // grid size of a phantom (phantoms only)
+    std::optional<RawOptions> raw; // headerless raw data: how to read `input`
+    std::string series_uid;        // DICOM folder: this SeriesInstanceUID; empty: the largest
+    std::string labels;            // a label map on the same grid; empty: threshold the grey
+    std::optional<int> label;      // the label to extract from `labels`
+    std::size_t memory_limit = 0;  // bytes a volume may take; 0: what the machine has
     bool operator==(const SourceSpec&) const = default;
 
     bool is_phantom() const;
@@ -51,9 +51,9 @@ struct AccuracyReference {
 
 struct Source {
     SourceSpec spec;
-    std::string title;       // "phantom two-spheres, 64^3" or the file's name
-    std::string description; // one line: format, stored type, dims, spacing, value range
-    std::optional<VolumeInfo> info;       // files only
+    std::string title;              // "phantom two-spheres, 64^3" or the file's name
+    std::string description;        // one line: format, stored type, dims, spacing, value range
+    std::optional<VolumeInfo> info; // files only
     std::shared_ptr<const Volume> volume; // the grey values
     // The label's mask (SourceSpec::labels with a label); null when thresholding the grey.
     std::shared_ptr<const Segmentation> mask;

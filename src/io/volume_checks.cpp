@@ -1,14 +1,12 @@
 // Checks of freshly read samples: the NaN / infinity policy, and a label map's grid against
 // its grey image's.
+#include "volume_checks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-
-#include "load_volume.h"
-
-#include "core/volume.h"
 
 namespace snert {
 
@@ -82,6 +80,5 @@ void check_same_grid(const Volume& grey, const std::string& grey_name, const Vol
                                 " (" + what + " differ): labels have " + grid_text(labels) +
                                 "; the grey image has " + grid_text(grey));
 }
-
 
 } // namespace snert

@@ -18,6 +18,19 @@ std::optional<ViewPreset> parse_view_preset(std::string_view name) {
     return std::nullopt;
 }
 
+namespace {
+constexpr Named<ViewPreset> kViewPresets[] = {
+    {ViewPreset::Front, "front", "front"},
+    {ViewPreset::Side, "side", "side"},
+    {ViewPreset::Top, "top", "top"},
+    {ViewPreset::Iso, "iso", "iso"},
+};
+} // namespace
+
+std::span<const Named<ViewPreset>> name_table(ViewPreset) {
+    return kViewPresets;
+}
+
 const char* view_preset_name(ViewPreset preset) {
     switch (preset) {
     case ViewPreset::Front:

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "core/mesh.h"
+#include "core/names.h"
 
 namespace snert::render {
 
@@ -22,6 +23,8 @@ enum class ViewPreset { Front, Side, Top, Iso };
 // "front", "side", "top", "iso"; std::nullopt for anything else.
 std::optional<ViewPreset> parse_view_preset(std::string_view name);
 const char* view_preset_name(ViewPreset preset);
+// The same names in the table of core/names.h (parse_name, name_of, name_choices).
+std::span<const Named<ViewPreset>> name_table(ViewPreset);
 
 struct OrbitCamera {
     glm::vec3 target{0.0f};

@@ -25,6 +25,17 @@ float figure_font_size(int width, int height) {
     return std::clamp(std::round(std::min(by_height, by_width)), 10.0f, 40.0f);
 }
 
+namespace {
+constexpr Named<FigureLayout> kFigureLayouts[] = {
+    {FigureLayout::Comparison, "comparison", "views, histograms and metrics"},
+    {FigureLayout::Views, "views", "views only"},
+};
+} // namespace
+
+std::span<const Named<FigureLayout>> name_table(FigureLayout) {
+    return kFigureLayouts;
+}
+
 FigureRects layout_figure(int width, int height, int view_count, FigureLayout layout,
                           bool with_legend, bool with_caption) {
     if (view_count < 1) throw std::invalid_argument("a figure needs at least one view");

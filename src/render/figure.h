@@ -47,6 +47,8 @@ enum class FigureLayout {
     Comparison, // views + histograms + metrics table
     Views,      // views with their titles only
 };
+// "comparison", "views" (core/names.h: parse_name, name_of, name_choices).
+std::span<const Named<FigureLayout>> name_table(FigureLayout);
 
 struct FigureRects {
     std::vector<Rect> titles; // one per view, above it

@@ -20,6 +20,18 @@ std::optional<Shading> parse_shading(std::string_view name) {
     return std::nullopt;
 }
 
+namespace {
+constexpr Named<Shading> kShadings[] = {
+    {Shading::Flat, "flat", "flat"},
+    {Shading::Smooth, "smooth", "smooth"},
+    {Shading::Quality, "quality", "quality"},
+};
+} // namespace
+
+std::span<const Named<Shading>> name_table(Shading) {
+    return kShadings;
+}
+
 const char* shading_name(Shading shading) {
     switch (shading) {
     case Shading::Flat:

@@ -29,6 +29,8 @@ enum class Shading { Flat, Smooth, Quality };
 // "flat", "smooth", "quality"; std::nullopt for anything else.
 std::optional<Shading> parse_shading(std::string_view name);
 const char* shading_name(Shading shading);
+// The same names in the table of core/names.h (parse_name, name_of, name_choices).
+std::span<const Named<Shading>> name_table(Shading);
 
 struct DrawStyle {
     Shading shading = Shading::Smooth;

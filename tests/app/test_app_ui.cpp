@@ -1,12 +1,16 @@
 // The app drawn headless (OSMesa) with scripted input: buttons, slider, plots, shortcuts,
-// parameters, camera, files. Checked by the app's state; tests/app/ui_snapshot.cpp adds the
-// golden-image check.
+// parameters, camera, files; every kind of input the CLI opens (phantom, NRRD, raw, label map,
+// DICOM series) and what a failed open leaves. Checked by the app's state;
+// tests/app/ui_snapshot.cpp adds the golden-image check.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "app/headless.h"
-#include "io/mesh_io.h"
+#include "support/read_mesh.h"
 #include "support/real_data.h"
 #include "support/temp_folder.h"
 
@@ -24,8 +28,8 @@ std::unique_ptr<HeadlessApp> make_app(int iterations, const std::string& input =
     options.width = 1200;
     options.height = 760;
     options.gl_backend = "osmesa";
-    options.app.input = input;
-    options.app.phantom_size = size;
+    options.app.source = SourceSpec{input};
+    if (options.app.source->is_phantom()) options.app.source->phantom_size = size;
     auto h = std::make_unique<HeadlessApp>(options);
     Parameters& p = h->app().settings().parameters;
     p.relax.max_iterations = iterations;
@@ -44,6 +48,41 @@ void click_widget(HeadlessApp& h, const std::string& id) {
     const auto rect = h.app().widget_rect(id);
     ASSERT_TRUE(rect) << "no widget " << id;
     h.click(rect->centre_x(), rect->centre_y());
+}
+
+// Settled on `spec`: it loaded, and everything of its job has arrived.
+bool settled_on(const App& app, const SourceSpec& spec) {
+    return settled(app) && app.loaded_source() && *app.loaded_source() == spec &&
+           app.results().source && app.results().source->spec == spec;
+}
+
+// A ball of bright voxels (200) in a dark box (10), as uint8 samples, x fastest.
+std::vector<std::uint8_t> ball(glm::ivec3 dims) {
+    std::vector<std::uint8_t> v;
+    const glm::vec3 centre = 0.5f * glm::vec3(dims - 1);
+    const float radius = 0.3f * float(std::min({dims.x, dims.y, dims.z}));
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x)
+                v.push_back(glm::length(glm::vec3(x, y, z) - centre) < radius ? 200 : 10);
+    return v;
+}
+
+// A NRRD file of the ball; `keep` < 1 cuts its data short (a truncated file).
+std::string write_nrrd(const test::TempFolder& folder, const std::string& name, glm::ivec3 dims,
+                       double keep = 1.0) {
+    std::vector<std::uint8_t> bytes;
+    const std::string header =
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: " + std::to_string(dims.x) + " " +
+        std::to_string(dims.y) + " " + std::to_string(dims.z) +
+        "\nspacings: 1 1 1.5\nencoding: raw\n\n";
+    bytes.assign(header.begin(), header.end());
+    const std::vector<std::uint8_t> samples = ball(dims);
+    bytes.insert(bytes.end(), samples.begin(),
+                 samples.begin() + std::ptrdiff_t(double(samples.size()) * keep));
+    const std::string path = folder.file(name);
+    test::write_bytes(path, bytes);
+    return path;
 }
 
 } // namespace
@@ -235,7 +274,8 @@ TEST(AppUi, ScreenshotAndExportWriteFiles) {
     EXPECT_EQ(shot.height, int(std::lround(views.y1)) - int(std::lround(views.y0)));
     app.request_screenshot(folder + "/no/such/folder/x.png");
     h->frame();
-    EXPECT_NE(app.notices().back().find("no/such/folder/x.png"), std::string::npos);
+    EXPECT_NE(app.notices().back().text.find("no/such/folder/x.png"), std::string::npos);
+    EXPECT_TRUE(app.notices().back().error);
 
     const auto written = app.export_meshes(folder + "/sphere", "ply");
     ASSERT_EQ(written.size(), 2u);
@@ -250,24 +290,25 @@ TEST(AppUi, DroppedFilesOpen) {
     App& app = h->app();
     app.on_drop({"/no/such/volume.nrrd"});
     h->frame();
-    EXPECT_NE(app.notices().back().find("/no/such/volume.nrrd"), std::string::npos);
+    EXPECT_NE(app.notices().back().text.find("/no/such/volume.nrrd"), std::string::npos);
+    EXPECT_TRUE(app.notices().back().error);
     EXPECT_EQ(app.settings().parameters.volume.input, "phantom:sphere");
 
     const std::string file = test::data_file("HeadMRVolume.mhd");
-    if (!fs::exists(file) || !can_load_files()) GTEST_SKIP() << "no " << file << " or no ITK";
+    if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
     app.on_drop({file});
     h->frame();
     ASSERT_TRUE(h->run_until(settled, 300));
     EXPECT_TRUE(app.results().error.empty()) << app.results().error;
     EXPECT_EQ(app.results().source->volume->dims, glm::ivec3(48, 62, 42));
-    EXPECT_EQ(app.settings().recent_files.front(), file);
+    EXPECT_EQ(app.settings().recent_files.front(), SourceSpec{file});
     EXPECT_FALSE(app.results().analytic_reference);
 }
 
 TEST(AppUi, OpenFieldCompletesWithTabAndOpensWithEnter) {
     const std::string folder = test::data_dir();
-    if (!fs::exists(folder + "/HeadMRVolume.mhd") || !can_load_files())
-        GTEST_SKIP() << "no " << folder << "/HeadMRVolume.mhd or no ITK";
+    if (!fs::exists(folder + "/HeadMRVolume.mhd"))
+        GTEST_SKIP() << "no " << folder << "/HeadMRVolume.mhd";
     auto h = make_app(2);
     ASSERT_TRUE(h->run_until(settled));
     App& app = h->app();
@@ -287,6 +328,7 @@ TEST(AppUi, SettingsSurviveARestart) {
     const test::TempFolder temp("snert-app-settings");
     const std::string folder = temp.path().string();
     const std::string path = folder + "/snert/settings.ini";
+    const SourceSpec torus{"phantom:torus", 24};
     {
         HeadlessOptions options;
         options.gl_backend = "osmesa";
@@ -294,14 +336,14 @@ TEST(AppUi, SettingsSurviveARestart) {
         HeadlessApp h(options);
         EXPECT_EQ(h.app().settings().parameters.volume.input, "phantom:two-spheres"); // default
         Settings& s = h.app().settings();
-        s.parameters.volume = {"phantom:torus", 40};
         s.parameters.relax.mode = RelaxMode::Gradient;
         s.parameters.relax.max_iterations = 7;
         s.view.shading = "flat";
         s.layout.side_panel_width = 280;
         s.layout.show_bottom_panel = false;
-        s.add_recent("/data/a.nrrd");
-        h.frame();
+        s.add_recent(SourceSpec{"/data/a.nrrd"});
+        h.app().open(torus);
+        ASSERT_TRUE(h.run_until([&](const App& a) { return settled_on(a, torus); }));
         h.app().save_settings();
     }
     HeadlessOptions options;
@@ -309,13 +351,280 @@ TEST(AppUi, SettingsSurviveARestart) {
     options.app.settings_path = path;
     HeadlessApp h(options);
     const Settings& s = h.app().settings();
-    EXPECT_EQ(s.parameters.volume.input, "phantom:torus");
-    EXPECT_EQ(s.parameters.volume.phantom_size, 40);
+    EXPECT_EQ(s.parameters.volume, torus);
     EXPECT_EQ(s.parameters.relax.mode, RelaxMode::Gradient);
     EXPECT_EQ(s.parameters.relax.max_iterations, 7);
     EXPECT_EQ(s.view.shading, "flat");
     EXPECT_EQ(s.layout.side_panel_width, 280.0f);
     EXPECT_FALSE(s.layout.show_bottom_panel);
     ASSERT_EQ(s.recent_files.size(), 1u);
-    EXPECT_EQ(s.recent_files[0], "/data/a.nrrd");
+    EXPECT_EQ(s.recent_files[0].input, "/data/a.nrrd");
+}
+
+TEST(AppUi, CommandLineOverridesTheSavedSettings) {
+    const test::TempFolder temp("snert-app-cli");
+    const std::string path = temp.file("settings.ini");
+    Settings saved;
+    saved.parameters.volume = {"phantom:torus", 24};
+    saved.parameters.relax.mode = RelaxMode::Gradient;
+    save_settings(saved, path);
+    HeadlessOptions options;
+    options.gl_backend = "osmesa";
+    options.app.settings_path = path;
+    options.app.source = SourceSpec{"phantom:sphere", 20};
+    options.app.iso = 1.5f;
+    options.app.inside = InsideIs::Below;
+    PipelineOptions pipeline;
+    pipeline.relax.mode = RelaxMode::Averaging;
+    pipeline.relax.max_iterations = 3;
+    pipeline.relax.triangulation = TriangulationRule::Delaunay;
+    options.app.pipeline = pipeline;
+    HeadlessApp h(options);
+    const Parameters& p = h.app().settings().parameters;
+    EXPECT_EQ(p.volume, (SourceSpec{"phantom:sphere", 20}));
+    EXPECT_FALSE(p.auto_iso);
+    EXPECT_EQ(p.iso, 1.5f);
+    EXPECT_EQ(p.inside, InsideIs::Below);
+    EXPECT_EQ(p.relax.mode, RelaxMode::Averaging);
+    EXPECT_EQ(p.relax.max_iterations, 3);
+    EXPECT_EQ(p.triangulation, TriangulationRule::Delaunay);
+    ASSERT_TRUE(h.run_until(settled));
+    EXPECT_EQ(h.app().results().iso, 1.5f);
+    EXPECT_EQ(h.app().results().frame->method, Method::Sna);
+}
+
+// --- Every kind of input the CLI opens ------------------------------------------------------
+
+TEST(AppInput, OpensAPhantomFromItsMenu) {
+    auto h = make_app(2);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    const SourceSpec torus{"phantom:torus", 32};
+    app.open(torus);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, torus); }));
+    EXPECT_NE(app.results().source->title.find("torus"), std::string::npos);
+    EXPECT_TRUE(app.results().analytic_reference);
+    EXPECT_TRUE(app.load_error().empty());
+    EXPECT_TRUE(app.form().path.empty());             // a phantom has no path
+    EXPECT_TRUE(app.settings().recent_files.empty()); // phantoms have their own menu
+}
+
+TEST(AppInput, OpensANrrdFileTypedIntoTheField) {
+    const test::TempFolder temp("snert-app-nrrd");
+    const std::string file = write_nrrd(temp, "ball.nrrd", {20, 18, 16});
+    auto h = make_app(3);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    click_widget(*h, "open_field");
+    h->type(file);
+    click_widget(*h, "open_button");
+    const SourceSpec spec{file};
+    EXPECT_EQ(app.settings().parameters.volume, spec);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, spec); }));
+    EXPECT_EQ(app.results().source->volume->dims, glm::ivec3(20, 18, 16));
+    EXPECT_GT(app.results().mc->mesh.triangle_count(), 100u);
+    EXPECT_EQ(app.settings().recent_files.front(), spec);
+    EXPECT_EQ(app.form().path, file);
+}
+
+TEST(AppInput, OpensHeaderlessRawDataWithItsOptions) {
+    const test::TempFolder temp("snert-app-raw");
+    const glm::ivec3 dims(22, 20, 18);
+    // uint16, big-endian: the ball's values times 100, high byte first.
+    std::vector<std::uint8_t> bytes;
+    for (const std::uint8_t v : ball(dims)) {
+        const auto value = std::uint16_t(v * 100);
+        bytes.push_back(std::uint8_t(value >> 8));
+        bytes.push_back(std::uint8_t(value & 0xff));
+    }
+    const std::string file = temp.file("ball.raw");
+    test::write_bytes(file, bytes);
+
+    auto h = make_app(3);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    EXPECT_FALSE(app.widget_rect("raw_checkbox")); // nothing typed: no raw options
+    click_widget(*h, "open_field");
+    h->type(file);
+    click_widget(*h, "raw_checkbox");
+    ASSERT_TRUE(app.form().raw);
+    h->frame();
+    EXPECT_TRUE(app.widget_rect("raw_dims")); // the raw options are shown
+    const RawOptions raw{dims, ScalarType::UInt16, glm::vec3(0.8f, 0.8f, 2.0f), Endian::Big};
+    app.form().raw_options = raw;
+    click_widget(*h, "open_button");
+    SourceSpec spec{file};
+    spec.raw = raw;
+    EXPECT_EQ(app.settings().parameters.volume, spec);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, spec); }));
+    const Volume& v = *app.results().source->volume;
+    EXPECT_EQ(v.dims, dims);
+    EXPECT_EQ(v.spacing, raw.spacing);
+    EXPECT_EQ(value_range(v).max, 20000.0f); // big-endian read as such
+    EXPECT_GT(app.results().mc->mesh.triangle_count(), 100u);
+    EXPECT_EQ(app.settings().recent_files.front(), spec);
+    // The wrong grid: the file's size does not match, nothing else changes.
+    app.form().raw_options.dims = glm::ivec3(30, 20, 18);
+    app.open_form();
+    ASSERT_TRUE(h->run_until([](const App& a) { return !a.load_error().empty() && settled(a); }));
+    EXPECT_NE(app.load_error().find("ball.raw"), std::string::npos) << app.load_error();
+    EXPECT_EQ(app.settings().parameters.volume, spec);
+    EXPECT_EQ(app.form().raw_options, raw); // the fields show the input shown again
+}
+
+TEST(AppInput, LabelMapBesideTheGreyImage) {
+    SNERT_REQUIRE_DATA();
+    const std::string ct = test::data_file("totalseg_ct_abdomen/example_ct_sm.nii.gz");
+    const std::string seg = test::data_file("totalseg_ct_abdomen/example_seg.nii.gz");
+    if (!fs::exists(ct) || !fs::exists(seg))
+        GTEST_SKIP() << "no TotalSegmentator example in " << test::data_dir();
+    auto h = make_app(3);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    app.open_path(ct);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, SourceSpec{ct}); }, 300));
+
+    // The label map: Open lists its labels, with the names its header carries.
+    click_widget(*h, "labels_field");
+    h->type(seg);
+    h->tap(key::Enter);
+    SourceSpec listed{ct};
+    listed.labels = seg;
+    EXPECT_EQ(app.settings().parameters.volume, listed);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, listed); }, 300));
+    const std::vector<LabelEntry>& labels = app.results().source->labels_present;
+    const auto liver = std::find_if(labels.begin(), labels.end(),
+                                    [](const LabelEntry& e) { return e.value == 5; });
+    ASSERT_NE(liver, labels.end());
+    EXPECT_EQ(liver->name, "liver");
+    EXPECT_EQ(liver->voxels, 38634u);
+    h->frame();
+    ASSERT_TRUE(app.widget_rect("label_combo"));
+
+    // Label 5: its mask, the iso of its boundary, a Marching Cubes mesh.
+    app.choose_label(5);
+    SourceSpec liver_spec = listed;
+    liver_spec.label = 5;
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, liver_spec); }, 300));
+    EXPECT_TRUE(app.results().source->mask);
+    EXPECT_EQ(app.results().iso, app.results().source->suggested_iso);
+    EXPECT_GT(app.results().mc->mesh.triangle_count(), 1000u);
+    EXPECT_GT(app.results().frame->mesh.triangle_count(), 1000u);
+    EXPECT_NE(app.status_text().find("label 5"), std::string::npos) << app.status_text();
+    EXPECT_EQ(app.settings().recent_files.front(), liver_spec);
+    EXPECT_EQ(app.settings_to_save().parameters.volume, liver_spec);
+}
+
+TEST(AppInput, DicomFolderListsItsSeriesAndOpensOne) {
+    SNERT_REQUIRE_DATA();
+    const std::string folder = test::data_file("dicom_mr_head_t1_sag");
+    if (!fs::is_directory(folder)) GTEST_SKIP() << "no " << folder;
+    auto h = make_app(0); // the input is the point: MC and the initial net
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    app.open_path(folder);
+    const SourceSpec largest{folder};
+    ASSERT_TRUE(h->run_until(
+        [&](const App& a) { return settled_on(a, largest) && !a.series_list().scanning; }, 300));
+    const SeriesList& list = app.series_list();
+    EXPECT_EQ(list.folder, folder);
+    EXPECT_TRUE(list.error.empty()) << list.error;
+    ASSERT_EQ(list.series.size(), 1u);
+    EXPECT_EQ(list.series[0].files, 35u);
+    h->frame();
+    EXPECT_TRUE(app.widget_rect("series_combo"));
+
+    const std::string uid = list.series[0].uid;
+    app.choose_series(uid);
+    SourceSpec chosen{folder};
+    chosen.series_uid = uid;
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, chosen); }, 300));
+    EXPECT_EQ(app.results().source->volume->dims, glm::ivec3(256, 256, 35));
+    EXPECT_EQ(app.results().source->info->series_uid, uid);
+    EXPECT_EQ(app.settings().recent_files.front(), chosen);
+}
+
+// --- A failed open never breaks the session -------------------------------------------------
+
+TEST(AppInput, TruncatedFileKeepsTheOldInputAndMeshes) {
+    const test::TempFolder temp("snert-app-bad");
+    const std::string good = write_nrrd(temp, "good.nrrd", {20, 20, 20});
+    const std::string bad = write_nrrd(temp, "cut.nrrd", {32, 32, 32}, 0.4);
+    auto h = make_app(4, good);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, SourceSpec{good}); }));
+    App& app = h->app();
+    app.settings().parameters.auto_iso = false;
+    app.settings().parameters.iso = 120.0f;
+    ASSERT_TRUE(h->run_until([](const App& a) { return settled(a) && a.results().iso == 120.0f; }));
+    const auto mc = app.results().mc;
+    const std::size_t triangles = mc->mesh.triangle_count();
+
+    app.open_path(bad);
+    EXPECT_TRUE(app.settings().parameters.auto_iso); // a new input starts on its suggestion
+    ASSERT_TRUE(h->run_until([](const App& a) { return !a.load_error().empty(); }));
+    // The error, in red, naming the file; the old input back, with its iso choice.
+    EXPECT_NE(app.load_error().find("cut.nrrd"), std::string::npos) << app.load_error();
+    EXPECT_TRUE(app.notices().back().error);
+    EXPECT_EQ(app.settings().parameters.volume, SourceSpec{good});
+    EXPECT_FALSE(app.settings().parameters.auto_iso);
+    EXPECT_EQ(app.settings().parameters.iso, 120.0f);
+    EXPECT_EQ(app.form().path, good); // the field shows what is shown
+    EXPECT_EQ(app.results().mc, mc);  // the old meshes stay meanwhile
+    EXPECT_EQ(*app.loaded_source(), SourceSpec{good});
+    h->frame();
+    EXPECT_TRUE(app.widget_rect("load_error"));
+
+    // Everything still works on the old volume: a parameter change re-runs on it.
+    app.settings().parameters.relax.mode = RelaxMode::Averaging;
+    ASSERT_TRUE(h->run_until([&](const App& a) {
+        return settled_on(a, SourceSpec{good}) && a.results().frame->method == Method::Sna;
+    }));
+    EXPECT_TRUE(app.results().error.empty()) << app.results().error;
+    EXPECT_EQ(app.results().iteration_count(), 5);
+    EXPECT_EQ(app.results().mc->mesh.triangle_count(), triangles);
+    EXPECT_FALSE(app.settings().parameters.auto_iso);
+    EXPECT_NE(app.status_text().find("good.nrrd"), std::string::npos) << app.status_text();
+
+    // Only inputs that loaded are remembered.
+    const std::string settings_path = temp.file("settings.ini");
+    for (const SourceSpec& spec : app.settings().recent_files) EXPECT_NE(spec.input, bad);
+    EXPECT_EQ(app.settings_to_save().parameters.volume, SourceSpec{good});
+    save_settings(app.settings_to_save(), settings_path);
+    EXPECT_EQ(test::read_text(settings_path).find("cut.nrrd"), std::string::npos);
+
+    // Not a volume at all: the same.
+    const std::string text = temp.file("notes.nrrd");
+    test::write_text(text, "these are notes, not a volume\n");
+    app.open_path(text);
+    ASSERT_TRUE(h->run_until([&](const App& a) {
+        return a.load_error().find("notes.nrrd") != std::string::npos && settled(a);
+    }));
+    EXPECT_EQ(app.settings().parameters.volume, SourceSpec{good});
+    EXPECT_EQ(app.results().source->spec, SourceSpec{good});
+}
+
+TEST(AppInput, ABadSavedInputStartsOnTheDefaultPhantom) {
+    const test::TempFolder temp("snert-app-bad-start");
+    const std::string bad = write_nrrd(temp, "cut.nrrd", {32, 32, 32}, 0.5);
+    const std::string path = temp.file("settings.ini");
+    test::write_text(path, "volume = " + bad + "\niterations = 2\n"); // an older snert's file
+    HeadlessOptions options;
+    options.gl_backend = "osmesa";
+    options.app.settings_path = path;
+    HeadlessApp h(options);
+    const SourceSpec fallback = Parameters().volume;
+    ASSERT_TRUE(h.run_until([&](const App& a) { return settled_on(a, fallback); }));
+    EXPECT_NE(h.app().load_error().find("cut.nrrd"), std::string::npos);
+    h.app().save_settings();
+    EXPECT_EQ(load_settings(path).parameters.volume, fallback);
+}
+
+TEST(AppUi, AboutShowsTheVersionAndThePaper) {
+    auto h = make_app(1);
+    h->app().show_about();
+    h->frame();
+    h->frame();
+    EXPECT_TRUE(h->app().about_open());
+    h->tap(key::Escape);
+    EXPECT_FALSE(h->app().about_open());
 }

@@ -8,6 +8,7 @@
 #include "core/phantom.h"
 #include "core/pipeline.h"
 #include "core/segmentation.h"
+#include "support/test_meshes.h"
 
 using namespace snert;
 using namespace snert::app;
@@ -24,8 +25,8 @@ std::shared_ptr<const RelaxContext> make_context(const Phantom& phantom, RelaxOp
     c->volume = std::make_shared<const Volume>(phantom.volume);
     options.iso = phantom.iso;
     c->options = options;
-    c->net = build_surface_net(segment_threshold(*c->volume, phantom.iso));
-    c->grey = make_grey_field(*c->volume, c->options);
+    c->net = std::make_shared<const SurfaceNet>(test::phantom_net(phantom));
+    c->grey = std::make_shared<const GreyField>(make_grey_field(*c->volume, c->options));
     return c;
 }
 
@@ -33,12 +34,13 @@ std::shared_ptr<const RelaxContext> make_context(const Phantom& phantom, RelaxOp
 Recorded relax_into(IterationHistory& history) {
     Recorded r;
     const RelaxContext& c = history.context();
-    r.positions.push_back(c.net.positions);
-    relax(c.net, &c.grey, c.options, [&](const RelaxIteration&, std::span<const glm::vec3> p) {
-        history.append(p);
-        r.positions.emplace_back(p.begin(), p.end());
-        return true;
-    });
+    r.positions.push_back(c.net->positions);
+    relax(*c.net, c.grey.get(), c.options,
+          [&](const RelaxIteration&, std::span<const glm::vec3> p) {
+              history.append(p);
+              r.positions.emplace_back(p.begin(), p.end());
+              return true;
+          });
     return r;
 }
 
@@ -54,7 +56,7 @@ RelaxOptions options_for(int iterations) {
 }
 
 std::size_t frame_bytes(const RelaxContext& c) {
-    return c.net.positions.size() * sizeof(glm::vec3);
+    return c.net->positions.size() * sizeof(glm::vec3);
 }
 
 } // namespace
@@ -135,12 +137,12 @@ TEST(IterationHistory, RejectsBadInput) {
     const Phantom sphere = make_phantom("sphere", 16);
     auto context = make_context(sphere, options_for(3));
     IterationHistory history(context, 0);
-    std::vector<glm::vec3> wrong(context->net.positions.size() + 1);
+    std::vector<glm::vec3> wrong(context->net->positions.size() + 1);
     EXPECT_THROW(history.append(wrong), std::invalid_argument);
     EXPECT_EQ(history.count(), 1);
     EXPECT_THROW(history.positions(-1), std::out_of_range);
     EXPECT_THROW(history.positions(1), std::out_of_range);
-    EXPECT_TRUE(bitwise_equal(history.positions(0), context->net.positions));
+    EXPECT_TRUE(bitwise_equal(history.positions(0), context->net->positions));
 }
 
 TEST(IterationHistory, RecomputationStopsWhenCancelled) {

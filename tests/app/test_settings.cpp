@@ -2,10 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "app/path_completion.h"
 #include "app/settings.h"
+#include "support/temp_folder.h"
 
 using namespace snert;
 using namespace snert::app;
@@ -32,9 +32,27 @@ TEST(Settings, RoundTripsEveryField) {
     s.layout.window_width = 1000;
     s.layout.bottom_tab = 1;
     s.play_speed = 25;
-    s.recent_files = {"/a b/c.nii.gz", "/d.mhd"};
-    const Settings back = parse_settings(format_settings(s));
+    s.parameters.volume.raw =
+        RawOptions{{64, 48, 30}, ScalarType::Int16, {0.5f, 0.5f, 2.5f}, Endian::Big};
+    s.parameters.volume.series_uid = "1.2.840.113619.2.1";
+    s.parameters.volume.labels = "/data/head labels.nii.gz";
+    s.parameters.volume.label = 7;
+    SourceSpec labelled{"/a b/c.nii.gz"};
+    labelled.labels = "/a b/seg.nii.gz";
+    labelled.label = 5;
+    SourceSpec raw{"/d.raw"};
+    raw.raw = RawOptions{{10, 20, 30}, ScalarType::Float32, {1.0f, 1.0f, 1.5f}, Endian::Little};
+    s.recent_files = {labelled, raw, SourceSpec{"/e.mhd"}};
+    const std::string text = format_settings(s);
+    EXPECT_NE(text.find("raw = 64,48,30\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("raw_type = int16\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("mode = sna\n"), std::string::npos) << text; // names, not labels
+    EXPECT_NE(text.find("recent = /a b/c.nii.gz | labels=/a b/seg.nii.gz | label=5\n"),
+              std::string::npos)
+        << text;
+    const Settings back = parse_settings(text);
     EXPECT_TRUE(back.parameters == s.parameters);
+    EXPECT_TRUE(back.parameters.volume == s.parameters.volume);
     EXPECT_EQ(back.parameters.iso, 123.456f); // exactly: shortest round-trip text
     EXPECT_EQ(back.view.shading, "smooth");
     EXPECT_TRUE(back.view.wireframe);
@@ -57,19 +75,59 @@ TEST(Settings, SkipsBadValuesAndUnknownKeys) {
     EXPECT_EQ(s.parameters.relax.gradient_sigma, Settings().parameters.relax.gradient_sigma);
 }
 
+TEST(Settings, AnInputWithoutOptionsWritesNoOptionKeys) {
+    const std::string text = format_settings(Settings());
+    for (const char* key : {"raw", "raw_type", "series", "labels", "label"})
+        EXPECT_EQ(text.find(std::string("\n") + key + " ="), std::string::npos) << key;
+    EXPECT_FALSE(parse_settings(text).parameters.volume.raw);
+    // Raw options without their grid cannot be read, so they are dropped.
+    EXPECT_FALSE(parse_settings("raw_type = uint16\n").parameters.volume.raw);
+    EXPECT_FALSE(parse_settings("raw = 0,4,4\n").parameters.volume.raw);
+}
+
+TEST(Settings, SourceLinesReadBackAndRefuseBadOptions) {
+    EXPECT_EQ(parse_source_line("/x/plain path.nrrd")->input, "/x/plain path.nrrd");
+    const auto spec = parse_source_line("/x/q.1 | raw=64,64,93 | raw_type=uint16 | "
+                                        "raw_spacing=3.2,3.2,1.5");
+    ASSERT_TRUE(spec && spec->raw);
+    EXPECT_EQ(spec->raw->dims, glm::ivec3(64, 64, 93));
+    EXPECT_EQ(spec->raw->type, ScalarType::UInt16);
+    EXPECT_EQ(spec->raw->spacing, glm::vec3(3.2f, 3.2f, 1.5f));
+    EXPECT_EQ(spec->raw->endian, Endian::Little);
+    EXPECT_EQ(format_source_line(*spec), "/x/q.1 | raw=64,64,93 | raw_type=uint16 | "
+                                         "raw_spacing=3.2,3.2,1.5 | raw_endian=little");
+    EXPECT_FALSE(parse_source_line(""));
+    EXPECT_FALSE(parse_source_line("/x | label=five"));
+    EXPECT_FALSE(parse_source_line("/x | colour=red"));
+    EXPECT_FALSE(parse_source_line("/x | raw_type=int16")); // no grid
+    const Settings s = parse_settings("recent = /a.nrrd\nrecent = /b.raw | raw_type=nonsense\n"
+                                      "recent = /a.nrrd\n");
+    ASSERT_EQ(s.recent_files.size(), 1u); // the bad line and the repeat are skipped
+    EXPECT_EQ(s.recent_files[0].input, "/a.nrrd");
+}
+
 TEST(Settings, RecentFilesAreUniqueNewestFirstAndBounded) {
     Settings s;
-    for (int i = 0; i < 15; ++i) s.add_recent("/f" + std::to_string(i));
-    s.add_recent("/f10");
+    auto file = [](int i) { return SourceSpec{"/f" + std::to_string(i)}; };
+    for (int i = 0; i < 15; ++i) s.add_recent(file(i));
+    s.add_recent(file(10));
+    s.add_recent(SourceSpec{"phantom:sphere"}); // phantoms have their own menu
     ASSERT_EQ(s.recent_files.size(), Settings::kMaxRecent);
-    EXPECT_EQ(s.recent_files[0], "/f10");
-    EXPECT_EQ(s.recent_files[1], "/f14");
-    EXPECT_EQ(std::count(s.recent_files.begin(), s.recent_files.end(), "/f10"), 1);
+    EXPECT_EQ(s.recent_files[0], file(10));
+    EXPECT_EQ(s.recent_files[1], file(14));
+    EXPECT_EQ(std::count(s.recent_files.begin(), s.recent_files.end(), file(10)), 1);
+    // The same file with another label is another input.
+    SourceSpec labelled = file(14);
+    labelled.labels = "/seg";
+    labelled.label = 2;
+    s.add_recent(labelled);
+    EXPECT_EQ(s.recent_files[0], labelled);
+    EXPECT_EQ(s.recent_files[1], file(10));
 }
 
 TEST(Settings, SavesAtomicallyAndLoadsMissingAsDefaults) {
-    const fs::path folder = fs::temp_directory_path() / "snert_settings_test";
-    fs::remove_all(folder);
+    const test::TempFolder temp("snert-settings");
+    const fs::path& folder = temp.path();
     const std::string path = (folder / "deep" / "settings.ini").string();
     EXPECT_TRUE(load_settings(path).parameters == Settings().parameters);
     Settings s;
@@ -77,7 +135,6 @@ TEST(Settings, SavesAtomicallyAndLoadsMissingAsDefaults) {
     save_settings(s, path);
     EXPECT_EQ(load_settings(path).parameters.relax.max_iterations, 99);
     EXPECT_EQ(std::distance(fs::directory_iterator(folder / "deep"), fs::directory_iterator()), 1);
-    fs::remove_all(folder);
 }
 
 TEST(Settings, DefaultPathFollowsXdg) {
@@ -92,13 +149,12 @@ TEST(Settings, DefaultPathFollowsXdg) {
 }
 
 TEST(PathCompletion, CompletesAgainstExistingFiles) {
-    const fs::path folder = fs::temp_directory_path() / "snert_completion_test";
-    fs::remove_all(folder);
+    const test::TempFolder temp("snert-completion");
+    const fs::path& folder = temp.path();
     fs::create_directories(folder / "series1");
     fs::create_directories(folder / "series2");
-    std::ofstream(folder / "head.nrrd") << "x";
-    std::ofstream(folder / "heart.nii.gz") << "x";
-    std::ofstream(folder / ".hidden") << "x";
+    for (const char* name : {"head.nrrd", "heart.nii.gz", ".hidden"})
+        test::write_text(folder / name, "x");
     const std::string base = folder.string() + "/";
 
     PathCompletion c = complete_path(base + "hea");
@@ -120,5 +176,4 @@ TEST(PathCompletion, CompletesAgainstExistingFiles) {
     EXPECT_TRUE(openable_path(base + "head.nrrd"));
     EXPECT_TRUE(openable_path(base + "series1"));
     EXPECT_FALSE(openable_path(base + "nothing"));
-    fs::remove_all(folder);
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <thread>
@@ -10,6 +11,8 @@
 #include "app/job_results.h"
 #include "app/worker.h"
 #include "core/phantom.h"
+#include "io/source.h"
+#include "support/temp_folder.h"
 
 using namespace snert;
 using namespace snert::app;
@@ -52,7 +55,9 @@ Expected direct(const JobRequest& job) {
     PipelineOptions o = job.options;
     o.iso = o.relax.iso = job.iso.value_or(p.iso);
     const DistanceFunction reference =
-        o.iso == p.iso ? p.reference_distance : first_order_distance(p.volume, o.iso);
+        o.iso == p.iso ? p.reference_distance
+                       : first_order_distance(std::make_shared<const Volume>(p.volume), o.iso);
+    o.measure.reference_volume = o.iso == p.iso ? p.reference_volume : 0.0;
     Expected e;
     e.mc = run_marching_cubes(p.volume, o, reference);
     e.net = run_surface_net(p.volume, segment_threshold(p.volume, o.iso, o.inside), o, reference);
@@ -65,6 +70,44 @@ bool same_mesh(const Mesh& a, const Mesh& b) {
                        a.positions.size() * sizeof(glm::vec3)) == 0;
 }
 
+// Every measured fact of two metrics, not the time or the relaxation's numbers.
+void expect_same_measures(const MethodMetrics& a, const MethodMetrics& b) {
+    EXPECT_EQ(a.vertices, b.vertices);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.quality.mean, b.quality.mean);
+    EXPECT_EQ(a.quality.min, b.quality.min);
+    EXPECT_EQ(a.quality.quality60_mean, b.quality.quality60_mean);
+    EXPECT_EQ(a.quality.radius_ratio_mean, b.quality.radius_ratio_mean);
+    EXPECT_EQ(a.quality.min_angle_min, b.quality.min_angle_min);
+    EXPECT_EQ(a.quality.degenerate, b.quality.degenerate);
+    EXPECT_EQ(a.quality.slivers, b.quality.slivers);
+    EXPECT_EQ(a.quality.histogram, b.quality.histogram);
+    EXPECT_EQ(a.smoothness, b.smoothness);
+    ASSERT_EQ(a.accuracy.has_value(), b.accuracy.has_value());
+    if (a.accuracy) {
+        EXPECT_EQ(a.accuracy->vertices_mean, b.accuracy->vertices_mean);
+        EXPECT_EQ(a.accuracy->vertices_max, b.accuracy->vertices_max);
+        EXPECT_EQ(a.accuracy->faces_mean, b.accuracy->faces_mean);
+        EXPECT_EQ(a.accuracy->faces_max, b.accuracy->faces_max);
+        EXPECT_EQ(a.accuracy->surface_mean, b.accuracy->surface_mean);
+        EXPECT_EQ(a.accuracy->surface_max, b.accuracy->surface_max);
+    }
+    EXPECT_EQ(a.topology.watertight, b.topology.watertight);
+    EXPECT_EQ(a.topology.manifold, b.topology.manifold);
+    EXPECT_EQ(a.topology.oriented, b.topology.oriented);
+    EXPECT_EQ(a.topology.euler, b.topology.euler);
+    EXPECT_EQ(a.topology.boundary_edges, b.topology.boundary_edges);
+    EXPECT_EQ(a.topology.nonmanifold_edges, b.topology.nonmanifold_edges);
+    EXPECT_EQ(a.topology.nonmanifold_vertices, b.topology.nonmanifold_vertices);
+    EXPECT_EQ(a.topology.collapsed_triangles, b.topology.collapsed_triangles);
+    EXPECT_EQ(a.boundary_edges_off_border, b.boundary_edges_off_border);
+    EXPECT_EQ(a.self_intersections, b.self_intersections);
+    EXPECT_EQ(a.fe_ready, b.fe_ready);
+    EXPECT_EQ(a.area, b.area);
+    EXPECT_EQ(a.volume, b.volume);
+    EXPECT_EQ(a.volume_error, b.volume_error);
+}
+
 void expect_matches_pipeline(const JobResults& r, const JobRequest& job) {
     const Expected e = direct(job);
     ASSERT_TRUE(r.mc && r.frame);
@@ -75,6 +118,8 @@ void expect_matches_pipeline(const JobResults& r, const JobRequest& job) {
     EXPECT_TRUE(same_mesh(r.frame->mesh, e.net.mesh));
     EXPECT_EQ(r.frame->metrics.quality.mean, e.net.metrics.quality.mean);
     EXPECT_EQ(r.frame->metrics.smoothness, e.net.metrics.smoothness);
+    expect_same_measures(r.mc->metrics, e.mc.metrics);
+    expect_same_measures(r.frame->metrics, e.net.metrics);
     EXPECT_EQ(r.frame->method, e.net.method);
     ASSERT_TRUE(r.finished);
     EXPECT_EQ(r.frame->iteration, r.finished->iterations);
@@ -102,9 +147,8 @@ TEST(Worker, OneJobGivesThePipelinesResult) {
     EXPECT_TRUE(r.analytic_reference);
     ASSERT_TRUE(r.source);
     EXPECT_EQ(r.source->volume->dims, glm::ivec3(24));
-    float total = 0;
-    for (float c : r.source->histogram.counts) total += c;
-    EXPECT_EQ(total, 24.0f * 24 * 24);
+    EXPECT_EQ(r.source->histogram.total(), std::uint64_t(24 * 24 * 24));
+    EXPECT_FALSE(r.source->mask);
     ASSERT_TRUE(r.net);
     EXPECT_EQ(r.net->nodes, r.frame->mesh.vertex_count());
     EXPECT_EQ(r.net->quads * 2, r.frame->mesh.triangle_count());
@@ -198,6 +242,7 @@ TEST(Worker, RelaxesFurtherOnRequest) {
     JobResults r;
     JobRequest job = phantom_job("sphere", 20, std::nullopt, 3);
     job.options.relax.epsilon = 1e-3f;
+    job.options.relax.damping_start = 5; // the continuation crosses it: iterations number on
     r.start(worker.request(job));
     ASSERT_TRUE(pump_until(worker, r, finished));
     ASSERT_EQ(r.finished->iterations, 3);
@@ -278,4 +323,129 @@ TEST(Worker, ReusesVolumeAndMarchingCubes) {
     EXPECT_NE(r.mc, mc);
     EXPECT_FALSE(r.analytic_reference);
     expect_matches_pipeline(r, job);
+}
+
+// The frames' metrics are measure()'s of the same mesh (core/pipeline.h), at an iteration the
+// worker triangulates itself and at the last one, which the pipeline made; the convergence
+// numbers of every iteration are measure()'s too.
+TEST(Worker, FrameMetricsAreThoseOfMeasure) {
+    Worker worker;
+    JobResults r;
+    JobRequest job = phantom_job("two-spheres", 22, std::nullopt, 6);
+    job.options.relax.epsilon = 0.0f;
+    r.start(worker.request(job));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    ASSERT_TRUE(r.error.empty()) << r.error;
+    ASSERT_EQ(r.finished->iterations, 6);
+
+    const Phantom p = make_phantom("two-spheres", 22);
+    RelaxOptions relax_options = job.options.relax;
+    relax_options.iso = p.iso;
+    const SurfaceNet net = build_surface_net(segment_threshold(p.volume, p.iso));
+    const GreyField field = make_grey_field(p.volume, relax_options);
+    MeasureOptions what;
+    what.reference_volume = p.reference_volume;
+    for (int k : {6, 2, 0}) {
+        worker.show_iteration(r.generation, k);
+        ASSERT_TRUE(pump_until(worker, r, [k](const JobResults& x) {
+            return x.frame && x.frame->iteration == k;
+        })) << k;
+        RelaxOptions upto = relax_options;
+        upto.max_iterations = k;
+        const RelaxResult relaxed = relax(net, &field, upto);
+        const Mesh index_mesh =
+            triangulate(net, relaxed.positions, upto.triangulation, p.volume.spacing);
+        const MethodMetrics expected = measure(index_mesh, p.volume, p.reference_distance, what);
+        SCOPED_TRACE(k);
+        expect_same_measures(r.frame->metrics, expected);
+        ASSERT_TRUE(r.frame->metrics.volume_error.has_value());
+        EXPECT_LT(std::abs(*r.frame->metrics.volume_error), 0.1);
+        const IterationStats& stats = r.iterations[std::size_t(k)];
+        EXPECT_EQ(stats.quality_mean, expected.quality.mean);
+        EXPECT_EQ(stats.quality_min, expected.quality.min);
+        EXPECT_EQ(stats.smoothness, expected.smoothness);
+        EXPECT_EQ(stats.accuracy_vertices, expected.accuracy->vertices_mean);
+        EXPECT_EQ(stats.accuracy_faces, expected.accuracy->faces_mean);
+    }
+    ASSERT_TRUE(r.mc);
+    ASSERT_TRUE(r.mc->metrics.volume_error.has_value());
+    EXPECT_LT(std::abs(*r.mc->metrics.volume_error), 0.05);
+}
+
+namespace {
+
+// A float NRRD of `volume`'s samples (unit spacing), or of its samples as uint8 labels.
+void write_nrrd(const std::string& path, const Volume& volume, bool labels) {
+    std::string text = std::string("NRRD0004\ntype: ") + (labels ? "uint8" : "float") +
+                       "\ndimension: 3\nsizes: " + std::to_string(volume.dims.x) + " " +
+                       std::to_string(volume.dims.y) + " " + std::to_string(volume.dims.z) +
+                       "\nspacings: 1 1 1\nendian: little\nencoding: raw\n\n";
+    for (const float v : volume.samples) {
+        if (labels) {
+            text.push_back(char(std::uint8_t(v)));
+        } else {
+            char bytes[sizeof(float)];
+            std::memcpy(bytes, &v, sizeof v);
+            text.append(bytes, sizeof bytes);
+        }
+    }
+    test::write_text(path, text);
+}
+
+} // namespace
+
+// With a label map and a label, the methods run as the CLI runs them: Marching Cubes on the
+// label's mask at 0.5 (run_method), the net with the mask as its topology and the grey values
+// in the gradient term.
+TEST(Worker, LabelMaskJobRunsTheMethodsOnTheMask) {
+    const test::TempFolder folder("snert-worker");
+    const Phantom p = make_phantom("sphere", 22);
+    // Labels: 1 in a ball a little smaller than the grey sphere, 2 in a slab, 0 elsewhere.
+    Volume labels = p.volume;
+    const glm::vec3 centre = glm::vec3(p.volume.dims - 1) * 0.5f;
+    for (int z = 0; z < labels.dims.z; ++z)
+        for (int y = 0; y < labels.dims.y; ++y)
+            for (int x = 0; x < labels.dims.x; ++x) {
+                const float d = glm::length(glm::vec3(x, y, z) - centre);
+                labels.samples[labels.index(x, y, z)] = d < 6.3f ? 1.0f : z < 3 ? 2.0f : 0.0f;
+            }
+    const std::string grey_path = folder.file("grey.nrrd"),
+                      labels_path = folder.file("labels.nrrd");
+    write_nrrd(grey_path, p.volume, false);
+    write_nrrd(labels_path, labels, true);
+
+    Worker worker;
+    JobResults r;
+    JobRequest job;
+    job.volume.input = grey_path;
+    job.volume.labels = labels_path;
+    job.volume.label = 1;
+    job.options.relax.max_iterations = 5;
+    r.start(worker.request(job));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    ASSERT_TRUE(r.error.empty()) << r.error;
+    ASSERT_TRUE(r.source && r.source->mask && r.mc && r.frame);
+    EXPECT_FALSE(r.analytic_reference);
+
+    const Source source = open_source(job.volume);
+    ASSERT_TRUE(source.mask);
+    EXPECT_EQ(r.iso, source.suggested_iso);
+    PipelineOptions o = job.options;
+    o.iso = o.relax.iso = source.suggested_iso;
+    const AccuracyReference reference = accuracy_reference(source, o.iso);
+    const MethodResult mc =
+        run_method(Method::MarchingCubes, *source.volume, source.mask.get(), o, reference.distance);
+    const MethodResult net = run_method(method_of(o.relax.mode), *source.volume, source.mask.get(),
+                                        o, reference.distance);
+    EXPECT_TRUE(same_mesh(r.mc->mesh, mc.mesh));
+    expect_same_measures(r.mc->metrics, mc.metrics);
+    EXPECT_TRUE(same_mesh(r.frame->mesh, net.mesh));
+    expect_same_measures(r.frame->metrics, net.metrics);
+    // Marching Cubes of the mask itself, not of the grey values at the iso.
+    const Volume mask = mask_volume(*source.mask, *source.volume);
+    EXPECT_TRUE(same_mesh(r.mc->mesh, mesh_to_world(marching_cubes(mask, {0.5f}), mask)));
+    const Mesh grey_mc = mesh_to_world(
+        marching_cubes(*source.volume, {source.suggested_iso, source.suggested_inside}),
+        *source.volume);
+    EXPECT_FALSE(same_mesh(r.mc->mesh, grey_mc));
 }

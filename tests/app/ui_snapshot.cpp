@@ -42,8 +42,7 @@ int main(int argc, char** argv) {
     options.width = 1280;
     options.height = 800;
     options.gl_backend = "osmesa";
-    options.app.input = "phantom:two-spheres";
-    options.app.phantom_size = 48;
+    options.app.source = SourceSpec{"phantom:two-spheres", 48};
     options.app.show_timings = false; // wall-clock times differ from run to run
     HeadlessApp h(options);
     App& app = h.app();

@@ -30,20 +30,80 @@ expect_exit() {
 
 # Usage errors: exit 2, one line.
 expect_exit 2 "unknown command" -- "$SNERT" frobnicate
-expect_exit 2 "unknown option --bogus" -- "$SNERT" compare phantom:sphere --bogus 1
+expect_exit 2 "not expected.*--bogus" -- "$SNERT" compare phantom:sphere --bogus 1
 expect_exit 2 "unknown phantom 'cube'" -- "$SNERT" compare phantom:cube
-expect_exit 2 "--size must be an integer in 8..1024" -- "$SNERT" compare phantom:sphere --size 4
-expect_exit 2 "--iterations must be an integer" -- "$SNERT" compare phantom:sphere --iterations x
-expect_exit 2 "--mode must be one of" -- "$SNERT" compare phantom:sphere --mode fast
-expect_exit 2 "missing input" -- "$SNERT" compare
-expect_exit 2 "needs a value" -- "$SNERT" compare phantom:sphere --iso
-expect_exit 2 "missing --out" -- "$SNERT" export phantom:sphere
+expect_exit 2 "--size: Value 4 not in range 8 to 1024" -- "$SNERT" compare phantom:sphere --size 4
+expect_exit 2 "--iterations: Value x not in range" -- "$SNERT" compare phantom:sphere --iterations x
+expect_exit 2 "--mode: must be one of sna\|gradient\|snert" -- "$SNERT" compare phantom:sphere --mode fast
+expect_exit 2 "VOLUME is required" -- "$SNERT" compare
+expect_exit 2 "--iso: 1 required" -- "$SNERT" compare phantom:sphere --iso
+expect_exit 2 "--out is required" -- "$SNERT" export phantom:sphere
 expect_exit 2 "no-such-volume.nrrd" -- "$SNERT" compare "$tmp/no-such-volume.nrrd"
 expect_exit 2 "mesh.xyz" -- "$SNERT" export phantom:sphere --size 16 --out "$tmp/mesh.xyz"
 expect_exit 2 "empty" -- "$SNERT" export phantom:sphere --size 16 --iso 1000 --out "$tmp/e.stl"
 [ -e "$tmp/e.stl" ] && fail "empty surface left a file"
 expect_exit 2 "all inside or all outside" -- "$SNERT" compare phantom:sphere --size 16 --iso -1000 --json "$tmp/e.json"
 [ -e "$tmp/e.json" ] && fail "empty surface left a JSON file"
+
+# Option rules: what does not apply to the input, or lacks its partner, is a usage error.
+expect_exit 2 "--raw: applies to volume files, not to phantom:sphere" -- "$SNERT" compare phantom:sphere --raw 4,4,4 --raw-type uint8
+expect_exit 2 "--labels: applies to volume files" -- "$SNERT" compare phantom:sphere --labels "$tmp/l.nii" --label 1
+expect_exit 2 "--size: applies to phantoms only" -- "$SNERT" compare "$tmp/v.nrrd" --size 32
+expect_exit 2 "--raw requires --raw-type" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4,4
+expect_exit 2 "--raw-type requires --raw" -- "$SNERT" compare "$tmp/v.raw" --raw-type uint8
+expect_exit 2 "--label requires --labels" -- "$SNERT" compare "$tmp/v.nrrd" --label 3
+expect_exit 2 "--(series excludes --raw|raw excludes --series)" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4,4 --raw-type uint8 --series 1.2.3
+expect_exit 2 "--raw: takes three" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4 --raw-type uint8
+expect_exit 2 "--raw-type: .*float32" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4,4 --raw-type half
+expect_exit 2 "--schedule: must be one of simultaneous\|smoothing-first" -- "$SNERT" compare phantom:sphere --schedule later
+expect_exit 2 "--method: must be one of mc\|sna\|gradient\|snert" -- "$SNERT" export phantom:sphere --method best --out "$tmp/m.stl"
+expect_exit 2 "not expected.*--mode" -- "$SNERT" export phantom:sphere --mode sna --out "$tmp/m.stl"
+
+# --help is generated from the declarations: the input options are listed.
+expect_exit 0 "" -- "$SNERT" compare --help
+for option in --raw --raw-type --raw-spacing --raw-endian --series --labels --label --iso --mode --json; do
+    grep -qE -- "^ *$option " "$tmp/out" || fail "compare --help lacks $option"
+done
+expect_exit 0 "" -- "$SNERT" --help
+grep -q "compare" "$tmp/out" || fail "snert --help lacks the commands"
+
+# The version, from CMake's project version.
+expect_exit 0 "" -- "$SNERT" --version
+grep -qxE "snert [0-9]+\.[0-9]+\.[0-9]+" "$tmp/out" || fail "--version prints '$(cat "$tmp/out")'"
+expect_exit 0 "" -- "$SNERT" version
+grep -qxE "snert [0-9]+\.[0-9]+\.[0-9]+" "$tmp/out" || fail "version prints '$(cat "$tmp/out")'"
+
+# Output paths are checked before the work: a missing folder fails at once (a 400^3 phantom
+# would take far longer than a second to mesh).
+for command in "compare phantom:sphere --size 400 --json $tmp/no-dir/c.json" \
+               "table1 --size 400 --json $tmp/no-dir/t.json" \
+               "export phantom:sphere --size 400 --out $tmp/no-dir/m.stl"; do
+    start=$(date +%s%N)
+    # shellcheck disable=SC2086
+    expect_exit 2 "no-dir.*does not exist" -- "$SNERT" $command
+    elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
+    [ "$elapsed_ms" -lt 1000 ] || fail "'$command' took $elapsed_ms ms to refuse a missing folder"
+done
+expect_exit 2 "c.txt: unknown extension" -- "$SNERT" compare phantom:sphere --size 16 --json "$tmp/c.txt"
+
+# --json - : JSON on standard output, the table on standard error.
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 16 --iterations 3 --json -
+python3 -m json.tool "$tmp/out" >/dev/null || fail "--json - does not print JSON alone"
+grep -q "accS over the whole surface" "$tmp/err" || fail "--json - does not move the table to stderr"
+python3 - "$tmp/out" <<'PY' || fail "compare provenance"
+import json, sys
+p = json.load(open(sys.argv[1]))["provenance"]
+assert p["command"] == "compare" and p["version"].count(".") == 2, p
+assert p["input"] == {"phantom": "sphere", "size": 16, "dims": [16, 16, 16], "spacing": [1, 1, 1]}, p["input"]
+assert p["iso"] == 0 and p["inside"] == "above", p
+r = p["relaxation"]
+assert r["iterations"] == 3 and r["mode"] == "snert" and r["schedule"] == "simultaneous", r
+assert r["epsilon"] == 1e-4 and r["guard"] is True and r["triangulation"] == "shorter", r
+PY
+
+# Numbers as people write them.
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 16 --iso 0.25 --mode sna --iterations 2
+grep -q "(iso 0.25)" "$tmp/out" || fail "the table title does not print the iso as given"
 
 # compare: the table and the JSON schema.
 expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 24 --json "$tmp/c.json"
@@ -53,7 +113,8 @@ grep -q "accS over the whole surface" "$tmp/out" || fail "compare table does not
 python3 - "$tmp/c.json" <<'PY' || fail "compare JSON schema"
 import json, sys
 j = json.load(open(sys.argv[1]))
-assert set(j) == {"mc", "sna", "snert"}, j.keys()
+assert set(j) == {"mc", "sna", "snert", "provenance"}, j.keys()
+prov = j.pop("provenance")
 keys = ["vertices", "triangles", "quality_mean", "quality_min", "quality_hist", "quality60_mean",
         "radius_ratio_mean", "degenerate", "smoothness", "accuracy_vertices", "accuracy_faces",
         "accuracy_surface", "accuracy_against", "watertight", "manifold", "nonmanifold_edges",
@@ -84,7 +145,7 @@ ls "$tmp" | grep -q tmp && fail "a temporary file was left behind"
 
 # table1 writes one object per phantom.
 expect_exit 0 "" -- "$SNERT" table1 --size 16 --iterations 5 --json "$tmp/t.json"
-python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert set(j)=={'plane','sphere','two_spheres'}; assert set(j['sphere'])=={'mc','sna','snert'}" "$tmp/t.json" || fail "table1 JSON"
+python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert set(j)=={'plane','sphere','two_spheres','provenance'}; assert set(j['sphere'])=={'mc','sna','snert'}; assert [p['phantom'] for p in j['provenance']['input']['phantoms']]==['plane','sphere','two-spheres']; assert j['provenance']['relaxation']['iterations']==5" "$tmp/t.json" || fail "table1 JSON"
 
 
 # Real volumes, when the shared data folder is there.
@@ -97,6 +158,11 @@ if [ -n "$data" ] && [ -d "$data" ]; then
     grep -q "snert" "$tmp/out" || fail "label compare lacks the snert row"
     grep -q "not the label mask's boundary" "$tmp/out" || fail "label compare does not say what accuracy is measured against"
     expect_exit 2 "HeadMRVolume" -- "$SNERT" compare "$ct" --labels "$data/HeadMRVolume.mhd" --label 5
+    # A label that does not occur: the labels present, with the names the file carries.
+    expect_exit 2 "example_seg.nii.gz: label 21 does not occur.*5 liver" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 21
+    expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --json -
+    python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['provenance']['input']; assert p['label']==5 and p['label_name']=='liver' and p['format']=='NIfTI', p" "$tmp/out" || fail "label provenance"
+    expect_exit 2 "--raw: applies to volume files" -- "$SNERT" compare phantom:sphere --raw 64,64,93 --raw-type uint16
     expect_exit 0 "wrote" -- "$SNERT" export "$data/headsq/quarter.1" --raw 64,64,93 --raw-type uint16 --raw-spacing 3.2,3.2,1.5 --iso 500 --iterations 5 --method snert --out "$tmp/head.ply"
 else
     echo "cli: shared data folder absent, real-volume checks skipped"

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <limits>
 #include <map>
 #include <random>
@@ -14,9 +13,11 @@
 #include <vector>
 
 #include "io/load_volume.h"
+#include "io/raw_volume.h"
 #include "core/marching_cubes.h"
 #include "core/metrics.h"
 #include "core/phantom.h"
+#include "support/real_data.h"
 
 using namespace snert;
 using detail::cube_edge_corner;
@@ -789,7 +790,7 @@ TEST(MarchingCubes, NaNSamplesAreOutsideAndNonFiniteValuesGiveFinitePositions) {
 
 namespace {
 
-const std::string kData = SNERT_DATA_DIR;
+using test::data_file;
 
 void expect_sound(const Volume& v, float iso, const std::string& what) {
     EXPECT_EQ(surface_fault(v, iso), "") << what;
@@ -803,15 +804,14 @@ void expect_sound(const Volume& v, float iso, const std::string& what) {
 } // namespace
 
 TEST(MarchingCubesRealVolumes, NoDegenerateTriangleOrPinchedVertexAtIntegerIsoValues) {
-    if (!std::filesystem::is_directory(kData))
-        GTEST_SKIP() << "test volumes not found in " << kData << " (set SNERT_DATA_DIR)";
-    expect_sound(load_volume(kData + "/FLAIR.nrrd"), 40.0f, "FLAIR.nrrd");
-    expect_sound(load_volume(kData + "/HeadMRVolume.mhd"), 40.0f, "HeadMRVolume.mhd");
-    expect_sound(load_volume(kData + "/carotid.vtk"), 190.0f, "carotid.vtk");
+    SNERT_REQUIRE_DATA();
+    expect_sound(load_volume(data_file("FLAIR.nrrd")), 40.0f, "FLAIR.nrrd");
+    expect_sound(load_volume(data_file("HeadMRVolume.mhd")), 40.0f, "HeadMRVolume.mhd");
+    expect_sound(load_volume(data_file("carotid.vtk")), 190.0f, "carotid.vtk");
     RawOptions raw;
     raw.dims = {64, 64, 93};
     raw.type = ScalarType::UInt16;
-    const Volume headsq = load_raw(kData + "/headsq/quarter.1", raw);
+    const Volume headsq = load_raw(data_file("headsq/quarter.1"), raw);
     expect_sound(headsq, 1150.0f, "headsq");
     expect_sound(headsq, 500.0f, "headsq");
 }

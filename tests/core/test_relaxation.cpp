@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "core/mesh_guard.h"
@@ -9,6 +10,7 @@
 #include "core/relaxation.h"
 #include "core/triangle_intersection.h"
 #include "core/triangulation.h"
+#include "support/test_meshes.h"
 
 using namespace snert;
 
@@ -22,7 +24,7 @@ struct Relaxed {
 
 Relaxed relax_phantom(const Phantom& p, RelaxOptions options) {
     Relaxed r;
-    r.net = build_surface_net(segment_threshold(p.volume, p.iso));
+    r.net = test::phantom_net(p);
     options.iso = p.iso;
     const GreyField grey = make_grey_field(p.volume, options);
     r.result = relax(r.net, &grey, options);
@@ -80,13 +82,14 @@ TEST(Relaxation, SnertFitsTheSphere) {
     o.mode = RelaxMode::Snert;
     o.max_iterations = 40;
     const Relaxed r = relax_phantom(p, o);
-    EXPECT_LT(mean_reference_distance(p, r.result.positions), 0.05);
+    // Measured: 0.009 voxel (averaging alone: 0.22; SNERT without its gradient term: 0.38).
+    EXPECT_LT(mean_reference_distance(p, r.result.positions), 0.015);
 }
 
 TEST(Relaxation, AveragingShrinksAndSnertDoesNot) {
     const Phantom p = make_phantom("sphere", 48);
     const Mesh initial = [&] {
-        const SurfaceNet net = build_surface_net(segment_threshold(p.volume, p.iso));
+        const SurfaceNet net = test::phantom_net(p);
         return triangulate(net, net.positions);
     }();
     RelaxOptions o;
@@ -126,7 +129,7 @@ TEST(Relaxation, GradientProjectsOntoThePlane) {
 TEST(Relaxation, JacobiUpdateUsesOldPositionsOnly) {
     // Moving nodes in reverse order of computation must not change a Jacobi step.
     const Phantom p = make_phantom("sphere", 20);
-    const SurfaceNet net = build_surface_net(segment_threshold(p.volume, p.iso));
+    const SurfaceNet net = test::phantom_net(p);
     RelaxOptions o;
     o.mode = RelaxMode::Averaging;
     std::vector<glm::vec3> next(net.node_count());
@@ -144,7 +147,7 @@ TEST(Relaxation, JacobiUpdateUsesOldPositionsOnly) {
 
 TEST(Relaxation, StopsAtEpsilonAndReportsEveryIteration) {
     const Phantom p = make_phantom("sphere", 24);
-    const SurfaceNet net = build_surface_net(segment_threshold(p.volume, p.iso));
+    const SurfaceNet net = test::phantom_net(p);
     RelaxOptions o;
     o.max_iterations = 500;
     o.epsilon = 1e-3f;
@@ -167,6 +170,43 @@ TEST(Relaxation, StopsAtEpsilonAndReportsEveryIteration) {
     EXPECT_EQ(stopped.max_moves.size(), 3u);
 }
 
+// Continuing from the positions after k iterations (RelaxStart) gives the positions of one run
+// of the total count bit for bit: the iterations number on, so the damping goes on as it was.
+TEST(Relaxation, ContinuesFromStartPositionsAsOneRun) {
+    const Phantom p = make_phantom("two-spheres", 20);
+    const SurfaceNet net = test::phantom_net(p);
+    RelaxOptions o;
+    o.iso = p.iso;
+    o.epsilon = 0.0f;
+    o.damping_start = 4;
+    o.damping_halving = 2.0f;
+    const GreyField grey = make_grey_field(p.volume, o);
+    RelaxOptions all = o;
+    all.max_iterations = 11;
+    const RelaxResult once = relax(net, &grey, all);
+    RelaxOptions first = o;
+    first.max_iterations = 3;
+    const RelaxResult part = relax(net, &grey, first);
+    std::vector<int> numbers;
+    const RelaxResult rest = relax(net, &grey, all,
+                                   [&](const RelaxIteration& it, auto) {
+                                       numbers.push_back(it.iteration);
+                                       return true;
+                                   },
+                                   {}, {part.positions, 3});
+    ASSERT_EQ(rest.positions.size(), once.positions.size());
+    EXPECT_EQ(std::memcmp(rest.positions.data(), once.positions.data(),
+                          once.positions.size() * sizeof(glm::vec3)),
+              0);
+    EXPECT_EQ(numbers, (std::vector<int>{4, 5, 6, 7, 8, 9, 10, 11}));
+    ASSERT_EQ(rest.max_moves.size(), 8u);
+    for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(rest.max_moves[i], once.max_moves[i + 3]) << i;
+    // Nothing left to do, and start positions that do not fit the net.
+    EXPECT_TRUE(relax(net, &grey, first, {}, {}, {part.positions, 3}).max_moves.empty());
+    const std::vector<glm::vec3> wrong(net.node_count() + 1);
+    EXPECT_THROW(relax(net, &grey, all, {}, {}, {wrong, 0}), std::invalid_argument);
+}
+
 TEST(Relaxation, SmoothingFirstScheduleAlsoFits) {
     const Phantom p = make_phantom("sphere", 40);
     RelaxOptions o;
@@ -177,18 +217,26 @@ TEST(Relaxation, SmoothingFirstScheduleAlsoFits) {
 }
 
 TEST(Relaxation, GaussianGradientOnNoisySphere) {
+    // Averaging alone already brings the noisy net to 0.196 voxel of the true sphere (from
+    // 0.43); SNERT with the Gaussian-derivative gradient must do clearly better. Measured: SNERT
+    // 0.120 (0.118-0.123 over noise seeds 1, 2, 3, 7), SNA 0.196; without its gradient term
+    // SNERT stays at 0.43.
     const Phantom p = make_phantom("noisy-sphere", 40);
     RelaxOptions o;
+    o.mode = RelaxMode::Snert;
     o.gradient = GradientMethod::Gaussian;
     o.gradient_sigma = 1.0f;
     o.max_iterations = 30;
-    const Relaxed r = relax_phantom(p, o);
-    EXPECT_LT(mean_reference_distance(p, r.result.positions), 0.2);
+    const double snert = mean_reference_distance(p, relax_phantom(p, o).result.positions);
+    o.mode = RelaxMode::Averaging;
+    const double sna = mean_reference_distance(p, relax_phantom(p, o).result.positions);
+    EXPECT_LT(snert, 0.135) << "SNA: " << sna;
+    EXPECT_LT(snert, 0.7 * sna) << "SNERT: " << snert << ", SNA: " << sna;
 }
 
 TEST(Relaxation, CancelThrows) {
     const Phantom p = make_phantom("sphere", 16);
-    const SurfaceNet net = build_surface_net(segment_threshold(p.volume, p.iso));
+    const SurfaceNet net = test::phantom_net(p);
     std::stop_source source;
     source.request_stop();
     Progress progress{source.get_token(), {}};

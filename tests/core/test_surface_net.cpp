@@ -10,6 +10,7 @@
 #include "core/phantom.h"
 #include "core/surface_net.h"
 #include "core/triangulation.h"
+#include "support/test_meshes.h"
 
 using namespace snert;
 
@@ -92,7 +93,7 @@ TEST(SurfaceNet, OneVoxelPlateKeepsItsSidesApart) {
 
 TEST(SurfaceNet, LinksAreSymmetricAndQuadEdgesAreLinks) {
     const Phantom p = make_phantom("two-spheres", 24);
-    const SurfaceNet net = build_surface_net(segment_threshold(p.volume, p.iso));
+    const SurfaceNet net = test::phantom_net(p);
     ASSERT_GT(net.node_count(), 100u);
     for (std::uint32_t a = 0; a < net.node_count(); ++a) {
         EXPECT_LE(net.link_offsets[a + 1] - net.link_offsets[a], 6u);

@@ -6,9 +6,8 @@
 #include <random>
 #include <utility>
 
-#include "core/marching_cubes.h"
-#include "core/phantom.h"
 #include "core/triangle_intersection.h"
+#include "support/test_meshes.h"
 
 namespace snert {
 namespace {
@@ -224,19 +223,14 @@ TEST(TriangleIntersection, OrderFreeOnASmallGrid) {
 // ---------------------------------------------------------------------------------------------
 // Mesh counts.
 
-Mesh sphere_mesh(int size) {
-    const Phantom sphere = make_phantom("sphere", size);
-    return marching_cubes(sphere.volume, {sphere.iso, InsideIs::Above});
-}
-
 TEST(SelfIntersections, ClosedSphereHasNone) {
-    const Mesh mesh = sphere_mesh(32);
+    const Mesh mesh = test::phantom_mc("sphere", 32);
     ASSERT_GT(mesh.triangle_count(), 1000u);
     EXPECT_EQ(count_self_intersections(mesh), 0u);
 }
 
 TEST(SelfIntersections, PushedThroughVertex) {
-    Mesh mesh = sphere_mesh(32);
+    Mesh mesh = test::phantom_mc("sphere", 32);
     // The vertex farthest along +x, mirrored through the centre and beyond the far side: its
     // triangles become spikes that pierce the opposite wall.
     std::size_t far = 0;
@@ -260,7 +254,7 @@ TEST(SelfIntersections, PushedThroughVertex) {
 
 TEST(SelfIntersections, GridMatchesAllPairs) {
     // A small sphere with every vertex jittered hard: many intersecting pairs, all kinds.
-    Mesh mesh = sphere_mesh(12);
+    Mesh mesh = test::phantom_mc("sphere", 12);
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> jitter(-0.6f, 0.6f);
     for (glm::vec3& p : mesh.positions) p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));

@@ -3,21 +3,22 @@
 // the relaxation must settle. Skipped, saying why, when the folder is absent.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <functional>
 #include <string>
 
 #include "core/volume_stats.h"
 #include "io/load_volume.h"
+#include "io/raw_volume.h"
 #include "core/marching_cubes.h"
 #include "core/metrics.h"
 #include "core/pipeline.h"
+#include "support/real_data.h"
 
 using namespace snert;
 
 namespace {
 
-const std::string kData = SNERT_DATA_DIR;
+using test::data_file;
 
 struct RealVolume {
     std::string name;
@@ -42,7 +43,7 @@ RealVolume grey_case(const std::string& name, Volume grey, float iso) {
 
 std::vector<RealCase> real_cases() {
     const auto file = [](const std::string& relative, float iso) {
-        return [=] { return grey_case(relative, load_volume(kData + "/" + relative), iso); };
+        return [=] { return grey_case(relative, load_volume(data_file(relative)), iso); };
     };
     // The DICOM head's 4.8 mm slices make the net's quads 1 x 4.8 mm, and where pieces share a
     // cell their first triangles are slivers already (1.4 %); the relaxation lifts them.
@@ -58,16 +59,16 @@ std::vector<RealCase> real_cases() {
              raw.dims = {64, 64, 93};
              raw.type = ScalarType::UInt16;
              raw.spacing = {3.2f, 3.2f, 1.5f};
-             return grey_case("headsq", load_raw(kData + "/headsq/quarter.1", raw), 1150.0f);
+             return grey_case("headsq", load_raw(data_file("headsq/quarter.1"), raw), 1150.0f);
          },
          0.001},
         {"liver label",
          [] {
              RealVolume v;
              v.name = "liver label";
-             v.grey = load_volume(kData + "/totalseg_ct_abdomen/example_ct_sm.nii.gz");
+             v.grey = load_volume(data_file("totalseg_ct_abdomen/example_ct_sm.nii.gz"));
              v.segmentation =
-                 segment_label(load_volume(kData + "/totalseg_ct_abdomen/example_seg.nii.gz"), 5);
+                 segment_label(load_volume(data_file("totalseg_ct_abdomen/example_seg.nii.gz")), 5);
              const BoundaryIso boundary = boundary_iso(v.grey, v.segmentation);
              v.iso = boundary.iso;
              v.inside = boundary.inside;
@@ -80,8 +81,7 @@ std::vector<RealCase> real_cases() {
 class NetOnRealVolume : public ::testing::TestWithParam<RealCase> {
   protected:
     void SetUp() override {
-        if (!std::filesystem::is_directory(kData))
-            GTEST_SKIP() << "test volumes not found in " << kData << " (set SNERT_DATA_DIR)";
+        SNERT_REQUIRE_DATA();
         if (GetParam().large && SNERT_LARGE_VOLUMES == 0)
             GTEST_SKIP() << GetParam().name
                          << " is too slow under the sanitizers; `make test` runs it in an "
@@ -156,7 +156,7 @@ TEST_P(NetOnRealVolume, SnaAndGradientMeshesAreFeReady) {
         PipelineOptions options = options_for(v, mode);
         options.relax.max_iterations = 8;
         const MethodResult r = run_surface_net(v.grey, v.segmentation, options, {});
-        SCOPED_TRACE(r.name);
+        SCOPED_TRACE(std::string(name_of(r.method)));
         expect_fe_ready(r.metrics);
     }
 }

@@ -1,7 +1,8 @@
-// libFuzzer target for snert's own header handling and raw reading (src/core/volume_headers.cpp,
-// raw_volume.cpp, volume_stats.cpp): the code that stands between an untrusted file and an
-// allocation. ITK is not linked (Debian's ITK headers do not compile with clang, and ITK is not
-// instrumented); what ITK reads is only reached after these checks passed.
+// libFuzzer target for snert's own header handling and raw reading (the parsers and size checks
+// of src/io: nifti, metaimage, vtk_legacy, nrrd, dicom_pixel_data, gzip, numbered_series, sizes,
+// sample_conversion; raw_volume.cpp; src/core/volume_stats.cpp): the code that stands between an
+// untrusted file and an allocation. ITK is not linked (Debian's ITK headers do not compile with
+// clang, and ITK is not instrumented); what ITK reads is only reached after these checks passed.
 //
 // The first input byte picks the target, the rest is its input. Every target may throw
 // std::runtime_error / std::invalid_argument (that is the refusal path); anything else, a
@@ -22,8 +23,18 @@
 #include <unistd.h>
 
 #include "core/volume_stats.h"
+#include "io/dicom_pixel_data.h"
+#include "io/gzip.h"
 #include "io/load_volume.h"
-#include "io/volume_headers.h"
+#include "io/metaimage.h"
+#include "io/nifti.h"
+#include "io/nrrd.h"
+#include "io/numbered_series.h"
+#include "io/raw_volume.h"
+#include "io/sample_conversion.h"
+#include "io/sizes.h"
+#include "io/volume_checks.h"
+#include "io/vtk_legacy.h"
 
 using namespace snert;
 

@@ -1,6 +1,6 @@
 // Atomic writing and mesh files: success and every failure leave either the complete new file
-// or the untouched old one and no temporary files; every mesh format round-trips exactly;
-// truncated and lying files give errors naming the file.
+// or the untouched old one and no temporary files; every mesh format round-trips exactly
+// through tests/support/read_mesh.h, which refuses truncated and lying files naming the file.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,8 +16,9 @@
 #include <unistd.h>
 
 #include "io/atomic_file.h"
-#include "io/mesh_io.h"
 #include "core/metrics.h"
+#include "io/mesh_io.h"
+#include "support/read_mesh.h"
 
 namespace snert {
 namespace {
@@ -385,86 +386,21 @@ TEST_F(MeshIo, WriteFailuresLeaveNothing) {
     EXPECT_TRUE(files().empty());
 }
 
-// --- Files from other writers ---------------------------------------------------------------
-
-TEST_F(MeshIo, AsciiStl) {
-    write_text(path("a.stl"), "solid two\n"
-                              "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
-                              "vertex 1 1 0\nendloop\nendfacet\n"
-                              "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\n"
-                              "vertex 0 1 0\nendloop\nendfacet\nendsolid two\n");
-    const Mesh m = read_mesh(path("a.stl"));
-    EXPECT_EQ(m.positions.size(), 4u);
-    EXPECT_EQ(m.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
-    EXPECT_NEAR(surface_area(m), 1.0, 1e-7);
-}
-
-TEST_F(MeshIo, AsciiPlyCubeOfQuads) {
-    write_text(path("cube.ply"),
-               "ply\nformat ascii 1.0\ncomment quads\nelement vertex 8\nproperty double x\n"
-               "property double y\nproperty double z\nproperty uchar red\n"
-               "element face 6\nproperty list uchar uint vertex_indices\nend_header\n"
-               "0 0 0 9\n1 0 0 9\n0 1 0 9\n1 1 0 9\n0 0 1 9\n1 0 1 9\n0 1 1 9\n1 1 1 9\n"
-               "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n");
-    const Mesh m = read_mesh(path("cube.ply"));
-    EXPECT_EQ(m.triangle_count(), 12u);
-    EXPECT_NEAR(enclosed_volume(m), 1.0, 1e-12);
-    EXPECT_TRUE(topology(m).manifold);
-}
-
-TEST_F(MeshIo, BigEndianPly) {
-    std::string body;
-    auto be32 = [&](std::uint32_t v) {
-        for (int s = 24; s >= 0; s -= 8) body.push_back(char(v >> s & 0xff));
-    };
-    for (float f : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f}) {
-        std::uint32_t bits;
-        std::memcpy(&bits, &f, 4);
-        be32(bits);
-    }
-    body.push_back(3);
-    be32(0), be32(1), be32(2);
-    write_text(path("be.ply"), "ply\nformat binary_big_endian 1.0\nelement vertex 3\n"
-                               "property float x\nproperty float y\nproperty float z\n"
-                               "element face 1\nproperty list uchar int vertex_indices\n"
-                               "end_header\n" +
-                                   body);
-    const Mesh m = read_mesh(path("be.ply"));
-    ASSERT_EQ(m.positions.size(), 3u);
-    EXPECT_EQ(m.positions[1], glm::vec3(1, 0, 0));
-    EXPECT_EQ(m.indices, (std::vector<std::uint32_t>{0, 1, 2}));
-}
-
-TEST_F(MeshIo, ObjWithTexturesNormalsAndNegativeIndices) {
-    write_text(path("q.obj"), "# a quad\nmtllib x.mtl\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
-                              "v 0 1 0 1.0\nvt 0 0\nvn 0 0 1\ng side\nusemtl m\ns off\n"
-                              "f 1/1/1 2/1/1 3//1 4 # comment\nf -4 -2 -1\n");
-    const Mesh m = read_mesh(path("q.obj"));
-    EXPECT_EQ(m.positions.size(), 4u);
-    EXPECT_EQ(m.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 0, 2, 3}));
-}
-
-TEST_F(MeshIo, OffWithCommentsAndColours) {
-    write_text(path("c.off"), "OFF # header\n# counts next\n4 1 0\n0 0 0\n1 0 0 255 0 0\n"
-                              "1 1 0\n0 1 0\n\n4 0 1 2 3 0.5 0.5 0.5\n");
-    const Mesh m = read_mesh(path("c.off"));
-    EXPECT_EQ(m.positions.size(), 4u);
-    EXPECT_EQ(m.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
-}
-
-TEST_F(MeshIo, Vtk51AndStrips) {
-    write_text(path("new.vtk"), "# vtk DataFile Version 5.1\nvtk output\nASCII\n"
-                                "DATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 1 1 0\n0 1 0\n"
-                                "METADATA\nINFORMATION 0\n\n"
-                                "POLYGONS 2 4\nOFFSETS vtktypeint64\n0 4\n"
-                                "CONNECTIVITY vtktypeint64\n0 1 2 3\n"
-                                "TRIANGLE_STRIPS 2 4\nOFFSETS vtktypeint64\n0 4\n"
-                                "CONNECTIVITY vtktypeint64\n0 1 3 2\n"
-                                "POINT_DATA 4\nSCALARS s float\n");
-    const Mesh m = read_mesh(path("new.vtk"));
-    EXPECT_EQ(m.positions.size(), 4u);
-    // Quad fan (0 1 2)(0 2 3), then strip (0 1 3)(1 2 3): all facing +z.
-    EXPECT_EQ(m.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 0, 1, 3, 1, 2, 3}));
+// read_mesh reads what snert writes and nothing else: files from other tools are refused, not
+// misread.
+TEST_F(MeshIo, OtherWritersVariantsAreRefused) {
+    write_text(path("a.stl"), "solid two\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                              "vertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid two\n");
+    expect_error<std::runtime_error>([&] { read_mesh(path("a.stl")); },
+                                     {path("a.stl"), "not a valid binary STL"});
+    write_text(path("a.ply"), "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n");
+    expect_error<std::runtime_error>([&] { read_mesh(path("a.ply")); },
+                                     {path("a.ply"), "only binary_little_endian"});
+    write_text(path("q.off"), "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    expect_error<std::runtime_error>([&] { read_mesh(path("q.off")); },
+                                     {path("q.off"), "line 7", "snert writes triangles"});
+    write_text(path("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n");
+    expect_error<std::runtime_error>([&] { read_mesh(path("n.obj")); }, {"line 4", "-3"});
 }
 
 } // namespace

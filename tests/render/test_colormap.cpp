@@ -56,5 +56,7 @@ TEST(Colormap, HighlightAndMethodColoursStandApart) {
     // The poor-quality red is far from every colour of the map.
     for (int i = 0; i <= 100; ++i)
         EXPECT_GT(glm::length(viridis(float(i) / 100.0f) - kPoorQualityColor), 0.45f);
-    EXPECT_GT(glm::length(method_color(snert::Method::MarchingCubes) - method_color(snert::Method::Snert)), 0.5f);
+    EXPECT_GT(glm::length(method_color(snert::Method::MarchingCubes) -
+                          method_color(snert::Method::Snert)),
+              0.5f);
 }

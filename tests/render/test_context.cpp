@@ -5,15 +5,14 @@
 #include <gtest/gtest.h>
 
 #include "render/context.h" // glad first
+#include "support/expect_error.h"
 
 #include <GL/osmesa.h>
 
 using namespace snert::render;
 
 namespace {
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using namespace snert::test;
 GLint current_version() {
     GLint major = 0, minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &major);
@@ -28,13 +27,8 @@ GLint current_profile() {
 } // namespace
 
 TEST(Context, UnknownBackendIsAnInvalidArgumentNamingIt) {
-    try {
-        create_offscreen_context("vulkan");
-        FAIL() << "no exception";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_TRUE(contains(e.what(), "'vulkan'")) << e.what();
-        EXPECT_TRUE(contains(e.what(), "osmesa")) << e.what();
-    }
+    expect_error<std::invalid_argument>([] { create_offscreen_context("vulkan"); },
+                                        {"'vulkan'", "osmesa"});
 }
 
 TEST(Context, OsMesaGivesACoreProfileOfAtLeast33) {
@@ -60,23 +54,13 @@ TEST(Context, AutoPicksTheFirstBackendThatWorks) {
 
 TEST(Context, AnUnavailableVersionFailsWithTheBackendsReason) {
     // Mesa's software driver offers at most 4.5; 9.9 fails on every back end.
-    try {
-        create_offscreen_context("osmesa", GlVersion{9, 9});
-        FAIL() << "no exception";
-    } catch (const std::runtime_error& e) {
-        EXPECT_TRUE(contains(e.what(), "OSMesa")) << e.what();
-        EXPECT_TRUE(contains(e.what(), "9.9")) << e.what();
-    }
-    try {
-        create_offscreen_context("auto", GlVersion{9, 9});
-        FAIL() << "no exception";
-    } catch (const std::runtime_error& e) {
-        // One line that gives the reason of each back end tried.
-        EXPECT_TRUE(contains(e.what(), "no offscreen OpenGL context")) << e.what();
-        EXPECT_TRUE(contains(e.what(), "OSMesa")) << e.what();
-        EXPECT_TRUE(contains(e.what(), "EGL")) << e.what();
-        EXPECT_FALSE(contains(e.what(), "\n")) << e.what();
-    }
+    const auto osmesa = [] { create_offscreen_context("osmesa", GlVersion{9, 9}); };
+    expect_error<std::runtime_error>(osmesa, {"OSMesa", "9.9"});
+    // One line that gives the reason of each back end tried.
+    const auto any = [] { create_offscreen_context("auto", GlVersion{9, 9}); };
+    const std::string message = error_of<std::runtime_error>(any);
+    expect_contains(message, {"no offscreen OpenGL context", "OSMesa", "EGL"});
+    EXPECT_FALSE(contains(message, "\n")) << message;
 }
 
 TEST(Context, ContextsOfBothKindsCanTakeTurns) {

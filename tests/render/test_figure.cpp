@@ -111,9 +111,11 @@ TEST(Panels, NamesAndCounts) {
 class FigureTest : public GlTest {};
 
 TEST_F(FigureTest, RendersViewsTitlesAndPanels) {
-    const Mesh left = test::octahedron({0, 0, 0}, 10.0f), right = test::octahedron({0, 0, 0}, 10.0f);
+    const Mesh left = test::octahedron({0, 0, 0}, 10.0f),
+               right = test::octahedron({0, 0, 0}, 10.0f);
     const MethodMetrics ml = metrics_of(8, 0.5), mr = metrics_of(8, 0.9);
-    const FigureMethod methods[] = {{Method::MarchingCubes, "", &left, &ml}, {Method::Snert, "", &right, &mr}};
+    const FigureMethod methods[] = {{Method::MarchingCubes, "", &left, &ml},
+                                    {Method::Snert, "", &right, &mr}};
     FigureOptions options;
     options.width = 400;
     options.height = 320;

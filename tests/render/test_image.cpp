@@ -1,12 +1,14 @@
 // Images: PNG round trip, errors naming the file, and the snapshot comparison.
 #include <filesystem>
-#include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "render/image.h"
+#include "support/expect_error.h"
+#include "support/temp_folder.h"
 
 using namespace snert::render;
+using namespace snert::test;
 
 namespace {
 
@@ -20,42 +22,34 @@ Image gradient(int width, int height) {
     return image;
 }
 
-std::filesystem::path temporary(const std::string& name) {
-    return std::filesystem::temp_directory_path() /
-           ("snert_test_image_" + std::to_string(::getpid()) + "_" + name);
-}
-
 } // namespace
 
 TEST(Image, PngRoundTripIsExact) {
     const Image image = gradient(13, 7);
-    const auto path = temporary("round.png");
-    write_png(path.string(), image);
-    const Image back = read_png(path.string());
-    std::filesystem::remove(path);
+    const TempFolder temp("snert-image");
+    const std::string path = temp.file("round.png");
+    write_png(path, image);
+    const Image back = read_png(path);
     EXPECT_EQ(back.width, 13);
     EXPECT_EQ(back.height, 7);
     EXPECT_EQ(back.rgba, image.rgba);
 }
 
 TEST(Image, ReadErrorsNameTheFile) {
-    const auto path = temporary("not_a.png");
-    std::ofstream(path) << "this is no PNG";
-    try {
-        read_png(path.string());
-        FAIL() << "no exception";
-    } catch (const std::runtime_error& e) {
-        EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
-    }
-    std::filesystem::remove(path);
-    EXPECT_THROW(read_png(temporary("missing.png").string()), std::runtime_error);
+    const TempFolder temp("snert-image");
+    const std::string path = temp.file("not_a.png");
+    write_text(path, "this is no PNG");
+    expect_error<std::runtime_error>([&] { read_png(path); }, {path});
+    EXPECT_THROW(read_png(temp.file("missing.png")), std::runtime_error);
 }
 
 TEST(Image, WriteToAMissingFolderFailsAndLeavesNothing) {
-    const auto folder = temporary("no_such_folder");
+    const TempFolder temp("snert-image");
+    const auto folder = temp.path() / "no_such_folder";
     EXPECT_THROW(write_png((folder / "x.png").string(), gradient(4, 4)), std::runtime_error);
     EXPECT_FALSE(std::filesystem::exists(folder));
-    EXPECT_THROW(write_png(temporary("bad.png").string(), Image{4, 4, {}}), std::invalid_argument);
+    EXPECT_THROW(write_png(temp.file("bad.png"), Image{4, 4, {}}), std::invalid_argument);
+    EXPECT_TRUE(std::filesystem::is_empty(temp.path()));
 }
 
 TEST(ImageComparison, CountsPixelsBeyondTheTolerance) {

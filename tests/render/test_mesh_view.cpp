@@ -8,19 +8,15 @@
 #include "gl_test.h"
 #include "render/mesh_view.h"
 #include "render/target.h"
+#include "support/test_meshes.h"
 
 using namespace snert;
 using namespace snert::render;
 
 namespace {
 
-// A square in the z = 0 plane facing +z, split into two right triangles (quality 0.5 each).
-Mesh square(float half = 1.0f) {
-    Mesh m;
-    m.positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
-    m.indices = {0, 1, 2, 0, 2, 3};
-    return m;
-}
+// test::square(): in the z = 0 plane facing +z, two right triangles (quality 0.5 each).
+using test::square;
 
 // A camera in front of the square (on +z), framing it.
 OrbitCamera camera_on_z(const Mesh& mesh) {

@@ -1,0 +1,339 @@
+#include "options.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+#include <vector>
+
+#include "core/input_error.h"
+#include "core/phantom.h"
+#include "io/atomic_file.h"
+#include "io/load_volume.h"
+
+namespace snert::cli {
+
+std::string format_number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
+}
+
+namespace {
+
+// "A,B,C" as three numbers; an error message (for a CLI11 validator) or empty.
+template <class T> std::string parse_triple(const std::string& text, glm::vec<3, T>* out) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t comma = text.find(',', start);
+        parts.push_back(text.substr(start, comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (parts.size() != 3) return "takes three comma-separated values X,Y,Z, got '" + text + "'";
+    glm::vec<3, T> v;
+    for (int a = 0; a < 3; ++a) {
+        const std::string& part = parts[std::size_t(a)];
+        std::size_t used = 0;
+        bool ok = !part.empty();
+        try {
+            if (ok) {
+                if constexpr (std::is_integral_v<T>)
+                    v[a] = std::stoi(part, &used);
+                else
+                    v[a] = std::stof(part, &used);
+            }
+        } catch (const std::exception&) {
+            ok = false;
+        }
+        if (!ok || used != part.size()) return "'" + part + "' is not a number (in '" + text + "')";
+    }
+    if (out) *out = v;
+    return {};
+}
+
+std::string check_dims(std::string& text) {
+    glm::ivec3 dims{0};
+    if (std::string error = parse_triple(text, &dims); !error.empty()) return error;
+    if (dims.x < 1 || dims.y < 1 || dims.z < 1)
+        return "every dimension must be at least 1, got '" + text + "'";
+    return {};
+}
+
+std::string check_spacing(std::string& text) {
+    glm::vec3 spacing{0.0f};
+    if (std::string error = parse_triple(text, &spacing); !error.empty()) return error;
+    for (int a = 0; a < 3; ++a)
+        if (!(spacing[a] > 0.0f) || !std::isfinite(spacing[a]))
+            return "every spacing must be a positive number, got '" + text + "'";
+    return {};
+}
+
+std::string check_raw_type(std::string& text) {
+    try {
+        const ScalarType type = parse_scalar_type(text);
+        if (type == ScalarType::UInt64 || type == ScalarType::Int64)
+            return "64-bit integers are not offered for raw data";
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return {};
+}
+
+std::string check_endian(std::string& text) {
+    try {
+        parse_endian(text);
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return {};
+}
+
+// The raw sample types offered: every stored type but the 64-bit integers.
+std::string raw_type_choices() {
+    std::string text;
+    for (const ScalarType t :
+         {ScalarType::UInt8, ScalarType::Int8, ScalarType::UInt16, ScalarType::Int16,
+          ScalarType::UInt32, ScalarType::Int32, ScalarType::Float32, ScalarType::Float64})
+        text += (text.empty() ? "" : "|") + std::string(scalar_type_name(t));
+    return text;
+}
+
+const CLI::Validator kFinite(
+    [](std::string& text) -> std::string {
+        try {
+            std::size_t used = 0;
+            const double v = std::stod(text, &used);
+            if (used == text.size() && std::isfinite(v)) return {};
+        } catch (const std::exception&) {
+        }
+        return "'" + text + "' is not a finite number";
+    },
+    "");
+
+constexpr const char* kInputGroup = "Input";
+constexpr const char* kPipelineGroup = "Relaxation";
+
+} // namespace
+
+void add_input_options(CLI::App& command, InputArgs& a, bool optional_input) {
+    a.o_input = command.add_option(
+        "VOLUME", a.input,
+        "phantom:NAME (" +
+            [] {
+                std::string names;
+                for (const std::string& n : phantom_names())
+                    names += (names.empty() ? "" : ", ") + n;
+                return names;
+            }() +
+            "), a volume file (NRRD, NIfTI, MetaImage, VTK, Analyze), a DICOM folder or .dcm, "
+            "or headerless raw data with --raw");
+    a.o_input->type_name("");
+    if (!optional_input) a.o_input->required();
+    a.o_size = command.add_option("--size", a.size, "phantom grid size N (N^3 voxels)")
+                   ->check(CLI::Range(8, 1024))
+                   ->type_name("N")
+                   ->capture_default_str()
+                   ->group(kInputGroup);
+    a.o_iso = command
+                  .add_option("--iso", a.iso,
+                              "iso value of the grey image (default: the phantom's, the label "
+                              "boundary's, or Otsu's threshold)")
+                  ->check(kFinite)
+                  ->type_name("V")
+                  ->group(kInputGroup);
+    add_name_option<InsideIs>(
+        command, "--inside", [&a](InsideIs v) { a.inside = v; },
+        "inside is I >= iso (above) or I <= iso (below) (default: above, or the label's side)")
+        ->group(kInputGroup);
+    a.o_raw = command
+                  .add_option("--raw", a.raw,
+                              "read VOLUME as headerless raw samples of this size (one file, or "
+                              "a numbered slice series starting at VOLUME)")
+                  ->check(CLI::Validator(check_dims, ""))
+                  ->type_name("X,Y,Z")
+                  ->group(kInputGroup);
+    a.o_raw_type = command.add_option("--raw-type", a.raw_type, "stored sample type of --raw")
+                       ->check(CLI::Validator(check_raw_type, ""))
+                       ->type_name(raw_type_choices())
+                       ->group(kInputGroup);
+    a.o_raw_spacing =
+        command.add_option("--raw-spacing", a.raw_spacing, "voxel size of --raw in mm")
+            ->check(CLI::Validator(check_spacing, ""))
+            ->type_name("X,Y,Z")
+            ->default_str("1,1,1")
+            ->group(kInputGroup);
+    a.o_raw_endian = command.add_option("--raw-endian", a.raw_endian, "byte order of --raw")
+                         ->check(CLI::Validator(check_endian, ""))
+                         ->type_name("little|big")
+                         ->default_str("little")
+                         ->group(kInputGroup);
+    a.o_series = command
+                     .add_option("--series", a.series,
+                                 "DICOM folder: the series with this SeriesInstanceUID "
+                                 "(default: the largest)")
+                     ->type_name("UID")
+                     ->group(kInputGroup);
+    a.o_labels = command
+                     .add_option("--labels", a.labels,
+                                 "a label map on the grey image's grid: segment by --label "
+                                 "instead of thresholding (the net's gradient uses the grey)")
+                     ->type_name("FILE")
+                     ->group(kInputGroup);
+    a.o_label = command.add_option("--label", a.label, "the label of --labels to extract")
+                    ->type_name("N")
+                    ->group(kInputGroup);
+    a.o_raw->needs(a.o_raw_type);
+    a.o_raw_type->needs(a.o_raw);
+    a.o_raw_spacing->needs(a.o_raw);
+    a.o_raw_endian->needs(a.o_raw);
+    a.o_series->excludes(a.o_raw);
+    a.o_labels->needs(a.o_label);
+    a.o_label->needs(a.o_labels);
+}
+
+InputChoice input_choice(const InputArgs& a) {
+    InputChoice c;
+    c.spec.input = a.input;
+    if (a.o_iso->count()) c.iso = a.iso;
+    c.inside = a.inside;
+    if (c.spec.is_phantom()) {
+        for (const CLI::Option* o : {a.o_raw, a.o_raw_type, a.o_raw_spacing, a.o_raw_endian,
+                                     a.o_series, a.o_labels, a.o_label})
+            if (o->count())
+                throw CLI::ValidationError(o->get_name(),
+                                           "applies to volume files, not to " + a.input);
+        c.spec.phantom_size = a.size;
+        return c;
+    }
+    if (a.o_size->count() && !a.input.empty())
+        throw CLI::ValidationError("--size",
+                                   "applies to phantoms only, not to the file " + a.input);
+    if (a.o_raw->count()) {
+        RawOptions raw;
+        parse_triple(a.raw, &raw.dims);
+        raw.type = parse_scalar_type(a.raw_type);
+        if (a.o_raw_spacing->count()) parse_triple(a.raw_spacing, &raw.spacing);
+        if (a.o_raw_endian->count()) raw.endian = parse_endian(a.raw_endian);
+        c.spec.raw = raw;
+    }
+    c.spec.series_uid = a.series;
+    c.spec.labels = a.labels;
+    if (a.o_label->count()) c.spec.label = a.label;
+    return c;
+}
+
+Source open_input(const InputChoice& choice) {
+    Source source;
+    try {
+        source = open_source(choice.spec);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(e.what());
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::runtime_error& e) {
+        throw InputError(e.what());
+    }
+    if (source.info)
+        std::cerr << "snert: " << choice.spec.input << ": " << source.description << "\n";
+    for (const std::string& warning : source.warnings)
+        std::cerr << "snert: warning: " << warning << "\n";
+    if (!choice.iso && !source.spec.is_phantom())
+        std::cerr << "snert: no --iso given; using " << source.iso_reason << "\n";
+    return source;
+}
+
+void add_pipeline_options(CLI::App& command, PipelineArgs& a, bool with_mode) {
+    RelaxOptions& r = a.relax;
+    if (with_mode)
+        a.o_mode = add_name_option<RelaxMode>(
+                       command, "--mode", [&a](RelaxMode m) { a.mode = m; },
+                       "the net to run beside Marching Cubes (default: SNA and SNERT)")
+                       ->group(kPipelineGroup);
+    a.o_iterations =
+        command.add_option("--iterations", r.max_iterations, "relaxation iterations, at most")
+            ->check(CLI::Range(0, 100000))
+            ->type_name("K")
+            ->capture_default_str()
+            ->group(kPipelineGroup);
+    command.add_option("--smoothing-weight", r.smoothing_weight, "weight of the averaging term")
+        ->check(kFinite)
+        ->type_name("W")
+        ->capture_default_str()
+        ->group(kPipelineGroup);
+    command.add_option("--gradient-weight", r.gradient_weight, "weight of the gradient term")
+        ->check(kFinite)
+        ->type_name("W")
+        ->capture_default_str()
+        ->group(kPipelineGroup);
+    add_name_option(command, "--schedule", r.schedule,
+                    "both terms at once, or smoothing first, ending with the gradient term")
+        ->group(kPipelineGroup);
+    add_name_option(command, "--constraint", r.constraint, "how a move is kept inside its cell")
+        ->group(kPipelineGroup);
+    add_name_option(command, "--gradient", r.gradient, "gradient of the grey values")
+        ->group(kPipelineGroup);
+    command.add_option("--sigma", r.gradient_sigma, "sigma of --gradient gaussian, in voxels")
+        ->check(CLI::PositiveNumber)
+        ->type_name("S")
+        ->capture_default_str()
+        ->group(kPipelineGroup);
+    a.o_epsilon =
+        command.add_option("--epsilon", r.epsilon, "stop when the largest move is under E voxels")
+            ->check(CLI::NonNegativeNumber)
+            ->type_name("E")
+            ->capture_default_str()
+            ->group(kPipelineGroup);
+    add_name_option(command, "--triangulation", r.triangulation, "how the quads are split")
+        ->group(kPipelineGroup);
+    command
+        .add_option("--guard", r.keep_valid,
+                    "refuse moves that make the mesh self-intersect or add slivers")
+        ->type_name("on|off")
+        ->default_str("on")
+        ->group(kPipelineGroup);
+}
+
+PipelineOptions pipeline_options(const PipelineArgs& a, float iso, InsideIs inside) {
+    PipelineOptions o;
+    o.iso = iso;
+    o.inside = inside;
+    o.relax = a.relax;
+    if (a.mode) o.relax.mode = *a.mode;
+    o.relax.iso = iso;
+    return o;
+}
+
+void check_output(const std::string& path, std::initializer_list<const char*> extensions) {
+    std::string lower = path;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    const bool known = std::any_of(extensions.begin(), extensions.end(), [&](const char* ext) {
+        const std::string e(ext);
+        return lower.size() > e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0;
+    });
+    if (!known) {
+        std::string list;
+        for (const char* ext : extensions) list += (list.empty() ? "" : ", ") + std::string(ext);
+        throw InputError(path + ": unknown extension (use " + list + ")");
+    }
+    try {
+        check_writable(path);
+    } catch (const std::runtime_error& e) {
+        throw InputError(e.what());
+    }
+}
+
+CLI::Option* add_json_option(CLI::App& command, std::string& path) {
+    return command
+        .add_option("--json", path,
+                    "also write the metrics as JSON to FILE (.json), or to standard output "
+                    "with '-' (the table then goes to standard error)")
+        ->type_name("FILE|-")
+        ->group("Output");
+}
+
+} // namespace snert::cli
