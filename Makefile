@@ -40,8 +40,13 @@ test: format-check
 	cmake --build $(CHECK) -j $(JOBS)
 	cd $(CHECK) && ctest -L data --output-on-failure -j $(JOBS)
 
+# snert against VTK's flying edges (one thread) on the sphere and a 512 x 512 x 400 CT, as one
+# table with the speed targets (bench/report.py). The bench-only packages (python3-vtk9,
+# python3-numpy) are installed here only, not by `make test`. QUICK=1: fewer runs, one CT iso
+# for `snert compare`.
 bench: release
-	$(RELEASE)/snert_bench --benchmark_counters_tabular=true
+	@bash scripts/setup.sh --bench
+	QUICK=$(QUICK) /usr/bin/python3 bench/report.py $(RELEASE)
 
 # libFuzzer on snert's own header handling and raw reader (clang, outside the CMake build).
 fuzz: setup

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages snert needs, only those missing. Idempotent: a second run
-# on a ready machine does nothing but check.
+# on a ready machine does nothing but check. `--bench` adds the packages of `make bench`.
 set -euo pipefail
 
 packages=(
@@ -13,6 +13,11 @@ packages=(
   clang clang-format libclang-rt-14-dev
   tetgen
 )
+# `make bench` only (scripts/setup.sh --bench): VTK's flying edges as the peer, and numpy for
+# making the CT benchmark volume. CI's `make test` does not pay for them.
+if [ "${1:-}" = "--bench" ]; then
+  packages+=(python3-vtk9 python3-numpy)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
