@@ -21,6 +21,21 @@ constexpr const char* kExportFormats[] = {"stl", "obj", "ply", "off", "vtk"};
 #define SNERT_VERSION "unknown"
 #endif
 
+// A window the user opened from a menu: centred on the screen when it appears, `width` wide,
+// bordered, closed by its title bar's button. Returns ImGui::Begin's result; call End always.
+bool begin_centred_window(const char* title, bool* open, float width) {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x + 0.5f * viewport->Size.x,
+                                   viewport->Pos.y + 0.5f * viewport->Size.y),
+                            ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowSize(ImVec2(width, 0), ImGuiCond_Appearing);
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 1.0f);
+    const bool visible =
+        ImGui::Begin(title, open, ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::PopStyleVar();
+    return visible;
+}
+
 // `text` cut at the end with an ellipsis so that it fits `width` pixels in the current font.
 std::string fit_text(const std::string& text, float width) {
     if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
@@ -189,16 +204,7 @@ void App::draw_status_bar() {
 
 void App::draw_help_window() {
     if (!help_open_) return;
-    const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x + 0.5f * viewport->Size.x,
-                                   viewport->Pos.y + 0.5f * viewport->Size.y),
-                            ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    ImGui::SetNextWindowSize(ImVec2(40.0f * fonts_.size, 0), ImGuiCond_Appearing);
-    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 1.0f);
-    const bool visible =
-        ImGui::Begin("Help: snert", &help_open_,
-                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::PopStyleVar();
+    const bool visible = begin_centred_window("Help: snert", &help_open_, 40.0f * fonts_.size);
     if (visible) {
         ImGui::PushTextWrapPos(38.0f * fonts_.size);
         ImGui::PushFont(fonts_.bold);
@@ -252,16 +258,7 @@ void App::draw_help_window() {
 
 void App::draw_about_window() {
     if (!about_open_) return;
-    const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    ImGui::SetNextWindowPos(ImVec2(viewport->Pos.x + 0.5f * viewport->Size.x,
-                                   viewport->Pos.y + 0.5f * viewport->Size.y),
-                            ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-    ImGui::SetNextWindowSize(ImVec2(32.0f * fonts_.size, 0), ImGuiCond_Appearing);
-    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 1.0f);
-    const bool visible =
-        ImGui::Begin("About snert", &about_open_,
-                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::PopStyleVar();
+    const bool visible = begin_centred_window("About snert", &about_open_, 32.0f * fonts_.size);
     if (visible) {
         ImGui::PushTextWrapPos(30.0f * fonts_.size);
         ImGui::PushFont(fonts_.bold);

@@ -11,11 +11,13 @@
 #include <functional>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 
 #include <glm/glm.hpp>
 
 #include "io/atomic_file.h"
+#include "io/raw_options_text.h"
 
 namespace snert::app {
 
@@ -104,28 +106,6 @@ Field string_field(const char* key, Member member, std::vector<std::string> allo
             }};
 }
 
-// "64,64,32" / "1,1,2.5": three values joined by commas, as on the command line (--raw).
-template <class V, class Parse> bool parse_triple(const std::string& text, V& out, Parse parse) {
-    V value{};
-    std::size_t start = 0;
-    for (int i = 0; i < 3; ++i) {
-        const std::size_t end = i < 2 ? text.find(',', start) : text.size();
-        if (end == std::string::npos) return false;
-        if (!parse(text.substr(start, end - start), value[i])) return false;
-        start = end + 1;
-    }
-    out = value;
-    return true;
-}
-
-template <class V, class Format> std::string triple_text(const V& v, Format format) {
-    return format(v[0]) + "," + format(v[1]) + "," + format(v[2]);
-}
-
-const char* endian_name(Endian endian) {
-    return endian == Endian::Big ? "big" : "little";
-}
-
 // One option of an input (SourceSpec): its text, empty when the option is not set.
 struct SpecField {
     const char* key;
@@ -143,14 +123,9 @@ RawOptions& raw_of(SourceSpec& spec) {
 const std::vector<SpecField>& spec_fields() {
     static const std::vector<SpecField> table = {
         {"raw",
-         [](const SourceSpec& s) {
-             return s.raw ? triple_text(s.raw->dims, [](int v) { return std::to_string(v); })
-                          : std::string();
-         },
+         [](const SourceSpec& s) { return s.raw ? raw_dims_text(s.raw->dims) : std::string(); },
          [](SourceSpec& s, const std::string& text) {
-             return parse_triple(text, raw_of(s).dims, [](const std::string& t, int& v) {
-                 return parse_int(t, v) && v >= 1;
-             });
+             return parse_raw_dims(text, raw_of(s).dims).empty();
          }},
         {"raw_type",
          [](const SourceSpec& s) {
@@ -167,21 +142,22 @@ const std::vector<SpecField>& spec_fields() {
          }},
         {"raw_spacing",
          [](const SourceSpec& s) {
-             return s.raw ? triple_text(s.raw->spacing, float_text) : std::string();
+             return s.raw ? raw_spacing_text(s.raw->spacing) : std::string();
          },
          [](SourceSpec& s, const std::string& text) {
-             return parse_triple(text, raw_of(s).spacing, [](const std::string& t, float& v) {
-                 return parse_float(t, v) && v > 0.0f;
-             });
+             return parse_raw_spacing(text, raw_of(s).spacing).empty();
          }},
         {"raw_endian",
          [](const SourceSpec& s) {
              return s.raw ? std::string(endian_name(s.raw->endian)) : std::string();
          },
          [](SourceSpec& s, const std::string& text) {
-             if (text != "little" && text != "big") return false;
-             raw_of(s).endian = text == "big" ? Endian::Big : Endian::Little;
-             return true;
+             try {
+                 raw_of(s).endian = parse_endian(text);
+                 return true;
+             } catch (const std::invalid_argument&) {
+                 return false;
+             }
          }},
         {"series", [](const SourceSpec& s) { return s.series_uid; },
          [](SourceSpec& s, const std::string& text) {

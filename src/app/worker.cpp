@@ -292,12 +292,8 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
         MethodResult net = run_surface_net(volume, segmentation, job.options, job.reference,
                                            stage_progress(Stage::Net, stop), observer);
         const bool converged = net.metrics.converged;
-        {
-            // The final mesh's distance to MC's surface, as the CLI's table reports it.
-            MethodResult pair[2] = {{Method::MarchingCubes, cached_mc_->mesh, {}}, std::move(net)};
-            measure_against_marching_cubes(pair, volume);
-            net = std::move(pair[1]);
-        }
+        // The final mesh's distance to MC's surface, as the CLI's table reports it.
+        net.metrics.to_marching_cubes = distance_to_mesh(net.mesh, cached_mc_->mesh, volume);
         job.final_frame = display_mesh(std::move(net), job.history->latest_iteration());
         serve_view(job, stop, true);
         set_stage(generation, Stage::Done);

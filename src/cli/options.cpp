@@ -11,6 +11,7 @@
 #include "core/input_error.h"
 #include "core/phantom.h"
 #include "io/atomic_file.h"
+#include "io/raw_options_text.h"
 #include "io/load_volume.h"
 
 namespace snert::cli {
@@ -23,53 +24,14 @@ std::string format_number(double value) {
 
 namespace {
 
-// "A,B,C" as three numbers; an error message (for a CLI11 validator) or empty.
-template <class T> std::string parse_triple(const std::string& text, glm::vec<3, T>* out) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (;;) {
-        const std::size_t comma = text.find(',', start);
-        parts.push_back(text.substr(start, comma - start));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    if (parts.size() != 3) return "takes three comma-separated values X,Y,Z, got '" + text + "'";
-    glm::vec<3, T> v;
-    for (int a = 0; a < 3; ++a) {
-        const std::string& part = parts[std::size_t(a)];
-        std::size_t used = 0;
-        bool ok = !part.empty();
-        try {
-            if (ok) {
-                if constexpr (std::is_integral_v<T>)
-                    v[a] = std::stoi(part, &used);
-                else
-                    v[a] = std::stof(part, &used);
-            }
-        } catch (const std::exception&) {
-            ok = false;
-        }
-        if (!ok || used != part.size()) return "'" + part + "' is not a number (in '" + text + "')";
-    }
-    if (out) *out = v;
-    return {};
-}
-
 std::string check_dims(std::string& text) {
     glm::ivec3 dims{0};
-    if (std::string error = parse_triple(text, &dims); !error.empty()) return error;
-    if (dims.x < 1 || dims.y < 1 || dims.z < 1)
-        return "every dimension must be at least 1, got '" + text + "'";
-    return {};
+    return parse_raw_dims(text, dims);
 }
 
 std::string check_spacing(std::string& text) {
     glm::vec3 spacing{0.0f};
-    if (std::string error = parse_triple(text, &spacing); !error.empty()) return error;
-    for (int a = 0; a < 3; ++a)
-        if (!(spacing[a] > 0.0f) || !std::isfinite(spacing[a]))
-            return "every spacing must be a positive number, got '" + text + "'";
-    return {};
+    return parse_raw_spacing(text, spacing);
 }
 
 std::string check_raw_type(std::string& text) {
@@ -214,9 +176,9 @@ InputChoice input_choice(const InputArgs& a) {
                                    "applies to phantoms only, not to the file " + a.input);
     if (a.o_raw->count()) {
         RawOptions raw;
-        parse_triple(a.raw, &raw.dims);
+        parse_raw_dims(a.raw, raw.dims); // checked by the option's validator
         raw.type = parse_scalar_type(a.raw_type);
-        if (a.o_raw_spacing->count()) parse_triple(a.raw_spacing, &raw.spacing);
+        if (a.o_raw_spacing->count()) parse_raw_spacing(a.raw_spacing, raw.spacing);
         if (a.o_raw_endian->count()) raw.endian = parse_endian(a.raw_endian);
         c.spec.raw = raw;
     }

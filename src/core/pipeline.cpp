@@ -128,18 +128,22 @@ Mesh mesh_to_index(const Mesh& world, const Volume& volume) {
 
 } // namespace
 
+std::optional<Accuracy> distance_to_mesh(const Mesh& mesh, const Mesh& reference,
+                                         const Volume& volume) {
+    if (reference.triangle_count() == 0) return std::nullopt;
+    const MeshDistance to_reference(mesh_to_index(reference, volume));
+    return accuracy(
+        mesh_to_index(mesh, volume), [&](glm::vec3 p) { return to_reference(p); }, &mesh);
+}
+
 void measure_against_marching_cubes(std::span<MethodResult> results, const Volume& volume) {
     const auto mc = std::find_if(results.begin(), results.end(), [](const MethodResult& r) {
         return r.method == Method::MarchingCubes;
     });
-    if (mc == results.end() || mc->mesh.triangle_count() == 0) return;
-    // Built once and shared by every net; queries are thread-safe (metrics.h).
-    const MeshDistance to_mc(mesh_to_index(mc->mesh, volume));
-    for (MethodResult& r : results) {
-        if (r.method == Method::MarchingCubes || r.mesh.triangle_count() == 0) continue;
-        r.metrics.to_marching_cubes = accuracy(
-            mesh_to_index(r.mesh, volume), [&](glm::vec3 p) { return to_mc(p); }, &r.mesh);
-    }
+    if (mc == results.end()) return;
+    for (MethodResult& r : results)
+        if (r.method != Method::MarchingCubes)
+            r.metrics.to_marching_cubes = distance_to_mesh(r.mesh, mc->mesh, volume);
 }
 
 } // namespace snert

@@ -131,10 +131,14 @@ MethodResult run_method(Method method, const Volume& grey, const Segmentation* m
                         const PipelineOptions& options, const DistanceFunction& reference,
                         const Progress& progress = {});
 
-// Fills MethodMetrics::to_marching_cubes of every net in `results` with its distance to the
-// Marching Cubes mesh among them (at the vertices, the face centres and over the surface, as
-// accuracy() measures). `volume` maps the world meshes back to index space. Nothing happens
-// without a Marching Cubes result or a net.
+// The distance of `mesh` to `reference`, both in world units on `volume`'s grid, in voxel units
+// (index space): at the vertices, the face centres and over the surface, as accuracy() measures
+// it. Empty when `reference` has no triangle.
+std::optional<Accuracy> distance_to_mesh(const Mesh& mesh, const Mesh& reference,
+                                         const Volume& volume);
+
+// Fills MethodMetrics::to_marching_cubes of every net in `results` with distance_to_mesh() to
+// the Marching Cubes mesh among them. Nothing happens without a Marching Cubes result.
 void measure_against_marching_cubes(std::span<MethodResult> results, const Volume& volume);
 
 } // namespace snert

@@ -50,6 +50,10 @@ Endian parse_endian(const std::string& name) {
     throw std::invalid_argument("unknown byte order '" + name + "' (expected little or big)");
 }
 
+const char* endian_name(Endian endian) {
+    return endian == Endian::Big ? "big" : "little";
+}
+
 namespace detail {
 
 Endian native_endian() {

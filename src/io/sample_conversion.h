@@ -37,6 +37,7 @@ ScalarType parse_scalar_type(const std::string& name);
 
 enum class Endian { Little, Big };
 Endian parse_endian(const std::string& name); // "little" | "big", else std::invalid_argument
+const char* endian_name(Endian endian);       // "little" | "big"
 
 namespace detail {
 

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstdint>
@@ -18,6 +17,8 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include "io/mesh_io.h"
 
 namespace snert {
 namespace {
@@ -435,28 +436,27 @@ Mesh read_ply(const std::string& data, const std::string& path) {
     return mesh;
 }
 
-std::string lower_extension(const std::string& path) {
-    const std::size_t slash = path.find_last_of('/');
-    const std::size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower((unsigned char)c));
-    return ext;
-}
-
 } // namespace
 
 Mesh read_mesh(const std::string& path) {
-    const std::string ext = lower_extension(path);
     Mesh (*reader)(const std::string&, const std::string&) = nullptr;
-    if (ext == ".stl") reader = read_stl;
-    if (ext == ".obj") reader = read_obj;
-    if (ext == ".ply") reader = read_ply;
-    if (ext == ".off") reader = read_off;
-    if (ext == ".vtk") reader = read_vtk;
-    if (!reader)
-        throw std::invalid_argument(path + ": not a mesh file snert writes (.stl, .obj, .ply, "
-                                           ".off or .vtk)");
+    switch (mesh_format_from_path(path)) { // the writer's own rule; throws for other extensions
+    case MeshFormat::Stl:
+        reader = read_stl;
+        break;
+    case MeshFormat::Obj:
+        reader = read_obj;
+        break;
+    case MeshFormat::Ply:
+        reader = read_ply;
+        break;
+    case MeshFormat::Off:
+        reader = read_off;
+        break;
+    case MeshFormat::Vtk:
+        reader = read_vtk;
+        break;
+    }
     Mesh mesh = reader(read_whole_file(path), path);
     for (std::uint32_t i : mesh.indices)
         if (i >= mesh.positions.size())
