@@ -1,5 +1,6 @@
-// Benchmarks of the core passes on the sphere phantom: Marching Cubes, building the net, one
-// relaxation iteration, triangulation. `make bench` prints them as a table with Mvoxels/s.
+// Micro-benchmarks of the core passes on the sphere phantom: Marching Cubes, building the net,
+// one relaxation iteration (with and without the mesh guard), triangulation. For profiling one
+// pass with perf; `make bench` times whole stages with `snert bench`.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -51,12 +52,14 @@ void BM_SurfaceNetBuild(benchmark::State& state) {
     state.counters["nodes"] = double(nodes);
 }
 
+// One SNERT iteration from the new net; range(1) 0: without the mesh guard (the paper's step).
 void BM_RelaxStep(benchmark::State& state) {
     const snert::Phantom& p = sphere(int(state.range(0)));
     const snert::SurfaceNet net =
         snert::build_surface_net(snert::segment_threshold(p.volume, p.iso));
     snert::RelaxOptions options;
     options.iso = p.iso;
+    options.keep_valid = state.range(1) != 0;
     const snert::GreyField grey = snert::make_grey_field(p.volume, options);
     std::vector<glm::vec3> next(net.node_count());
     for (auto _ : state) {
@@ -82,7 +85,12 @@ void BM_Triangulate(benchmark::State& state) {
 
 BENCHMARK(BM_MarchingCubes)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SurfaceNetBuild)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_RelaxStep)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RelaxStep)
+    ->Args({128, 1})
+    ->Args({256, 1})
+    ->Args({256, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_Triangulate)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

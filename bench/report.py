@@ -1,16 +1,17 @@
 #!/usr/bin/python3
-"""`make bench`: times snert (snert_bench, Google Benchmark) and VTK's vtkFlyingEdges3D
-(bench/vtk_peer.py, one thread) on the same volumes in one run, and prints one table with the
-issue's speed targets marked met / not met.
+"""`make bench`: times snert's stages (`snert bench`) at one thread and at every core, VTK's
+vtkFlyingEdges3D (bench/vtk_peer.py, one thread) on the same volumes in the same run, the whole
+`snert compare --mode snert` command with its peak memory, and the app (bench/app_stats.py);
+prints one table with the issue's targets marked met / not met.
 
-    report.py BUILD_DIR            (BUILD_DIR holds snert_bench and snert)
-    QUICK=1 report.py BUILD_DIR    (the CT at the bone iso only, for `snert compare`; fewer runs)
+    report.py BUILD_DIR            (BUILD_DIR holds snert)
+    QUICK=1 report.py BUILD_DIR    (the CT at the bone iso only; one run per stage; no app)
 
 The CT benchmark volume (512 x 512 x 400 int16 NRRD) is made once into BUILD_DIR/ct512.nrrd by
 ../shared/tools/upsample_ct.py; without ../shared/data the CT rows are skipped, and it says so.
-Times are wall clock; snert's are medians of Google Benchmark repetitions, FE's medians of 5.
+Times are wall clock: snert's stages are medians of `snert bench --repeat`, FE's of 5 runs.
 """
-import json, os, re, shutil, subprocess, sys, time
+import json, os, re, shutil, subprocess, sys, tempfile, time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -32,21 +33,15 @@ def make_ct(build):
     return out
 
 
-def run_snert_bench(build, ct, quick):
-    env = dict(os.environ)
-    if ct:
-        env["SNERT_BENCH_CT"] = ct
-    cmd = [os.path.join(build, "snert_bench"), "--benchmark_format=json",
-           "--benchmark_filter=/256|CT", "--benchmark_repetitions=%d" % (2 if quick else 3),
-           "--benchmark_report_aggregates_only=true"]
-    if quick:
-        cmd.append("--benchmark_min_time=0.2")
-    res = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
-    medians = {}
-    for b in json.loads(res.stdout)["benchmarks"]:
-        if b.get("aggregate_name") == "median":
-            medians[b["run_name"]] = b
-    return medians
+def snert_bench(snert, volume_args, threads, repeat):
+    """One `snert bench` run: its JSON."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "b.json")
+        subprocess.run([snert, "bench", *volume_args, "--threads", str(threads), "--repeat",
+                        str(repeat), "--quiet", "--json", path], check=True,
+                       stdout=subprocess.DEVNULL)
+        with open(path) as f:
+            return json.load(f)
 
 
 def run_peer(ct, quick):
@@ -57,9 +52,10 @@ def run_peer(ct, quick):
     return json.loads(res.stdout)
 
 
-def time_compare(build, ct, iso):
-    """Wall clock and peak memory of `snert compare CT --iso ISO --mode snert`."""
-    cmd = [os.path.join(build, "snert"), "compare", ct, "--iso", str(iso), "--mode", "snert"]
+def time_compare(snert, ct, iso):
+    """Wall clock, peak memory and the meshes' sizes of `snert compare CT --iso ISO --mode
+    snert` (all cores), as a user runs it: reading included."""
+    cmd = [snert, "compare", ct, "--iso", str(iso), "--mode", "snert", "--quiet", "--json", "-"]
     timer = shutil.which("time", path="/usr/bin")
     if timer:
         cmd = [timer, "-v"] + cmd
@@ -69,78 +65,109 @@ def time_compare(build, ct, iso):
     if res.returncode != 0:
         raise RuntimeError(f"snert compare failed:\n{res.stderr[-2000:]}")
     m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", res.stderr)
-    return wall * 1e3, (int(m.group(1)) / 1024 if m else None)
+    j = json.loads(res.stdout)
+    # Positions (3 floats) and triangles (3 indices) of the two meshes, in MiB.
+    mesh_mib = sum(12 * (j[k]["vertices"] + j[k]["triangles"]) for k in ("mc", "snert")) / 2**20
+    return wall * 1e3, (int(m.group(1)) / 1024 if m else None), mesh_mib
 
 
-def fmt_ms(ms):
-    return "-" if ms is None else (f"{ms:.0f}" if ms >= 100 else f"{ms:.1f}")
+def fmt(v, digits=None):
+    if v is None:
+        return "-"
+    if digits is not None:
+        return f"{v:.{digits}f}"
+    return f"{v:.0f}" if v >= 100 else f"{v:.1f}"
 
 
 def main():
     build = sys.argv[1] if len(sys.argv) > 1 else "build/release"
     quick = os.environ.get("QUICK", "0") not in ("", "0")
+    snert = os.path.join(build, "snert")
+    cores = os.cpu_count() or 1
     ct = make_ct(build)
-    snert = run_snert_bench(build, ct, quick)
     peer = run_peer(ct, quick)
     fe = {k: v["ms"] for k, v in peer["cases"].items()}
 
-    rows = []  # stage, volume, snert ms, FE ms, ratio text, target, met
-
-    def find(name):  # run names go on with /iterations:1/repeats:N/real_time
-        return next((b for k, b in snert.items() if k.startswith(name + "/")), None)
-
-    def ms(name):
-        b = find(name)
-        return None if b is None else b["real_time"]  # the unit is ms (bench sources)
-
-    def add(stage, volume, s_ms, f_ms, target, met, extra=""):
-        ratio = f"{s_ms / f_ms:.2f}" if s_ms is not None and f_ms else "-"
-        verdict = "-" if met is None else ("met" if met else "NOT met")
-        rows.append((stage, volume, fmt_ms(s_ms), fmt_ms(f_ms), ratio, target + extra, verdict))
-
-    volumes = [("sphere 256^3", "/256", "sphere256/iso:0")]
+    volumes = [("sphere 256^3", ["--size", "256"], "sphere256/iso:0")]
     if ct:
-        volumes += [(f"CT 512x512x400 iso {iso}", f"/iso:{iso}", f"ct/iso:{iso}") for iso in ISOS]
-    for label, suffix, key in volumes:
-        prefix = "BM_" if suffix == "/256" else "BM_CT_"
-        mc = ms(prefix + "MarchingCubes" + suffix)
-        add("Marching Cubes", label, mc, fe.get(key), "snert/FE <= 0.5 (2x FE throughput)",
-            None if mc is None else mc / fe[key] <= 0.5)
-    for label, suffix, key in volumes:
-        prefix = "BM_" if suffix == "/256" else "BM_CT_"
-        mc, net = ms(prefix + "MarchingCubes" + suffix), ms(prefix + "SurfaceNetBuild" + suffix)
-        add("net build", label, net, fe.get(key), f"<= our MC ({fmt_ms(mc)} ms)",
-            None if net is None or mc is None else net <= mc)
-    for label, suffix, key in volumes:
-        prefix = "BM_" if suffix == "/256" else "BM_CT_"
-        b = find(prefix + "RelaxStep" + suffix)
-        if b is None:
-            continue
-        if "ns/node" in b:
-            ns = b["ns/node"]
-        else:  # the sphere benchmark reports Mnodes/s
-            ns = 1e3 / b["Mnodes/s"]
-        add("one SNERT iteration", label, b["real_time"], fe.get(key), "<= 25 ns/node",
-            ns <= 25.0, f" (got {ns:.1f})")
+        isos = ISOS[:1] if quick else ISOS
+        volumes += [(f"CT iso {iso}", ["--volume", ct, "--iso", str(iso)], f"ct/iso:{iso}")
+                    for iso in isos]
+    repeat = 1 if quick else 3
+    thread_counts = [1] if cores == 1 else [1, cores]
+    runs = {(label, t): snert_bench(snert, args, t, repeat)
+            for label, args, _ in volumes for t in thread_counts}
+
+    rows = []  # stage, volume, measured, target, verdict
+
+    def add(stage, volume, measured, target, met):
+        verdict = "-" if met is None else ("met" if met else "NOT met")
+        rows.append((stage, volume, measured, target, verdict))
+
+    many = thread_counts[-1]
+    for label, _, key in volumes:
+        one, all_ = runs[(label, 1)], runs[(label, many)]
+        f = fe.get(key)
+        ratio = one["mc_ms"] / f
+        add("Marching Cubes, 1 thread", label,
+            f"{fmt(one['mc_ms'])} ms, FE {fmt(f)} ms: {ratio:.2f}x FE's time",
+            "<= 0.5x (2x FE's throughput)", ratio <= 0.5)
+        if many > 1:
+            speedup = one["mc_ms"] / all_["mc_ms"]
+            add(f"Marching Cubes, {many} threads", label,
+                f"{fmt(all_['mc_ms'])} ms: {speedup:.2f}x faster", ">= 1.8x faster",
+                speedup >= 1.8)
+        add("net build, 1 thread", label,
+            f"{fmt(one['net_ms'])} ms = {one['net_ms'] / one['mc_ms']:.2f}x our MC",
+            "<= our MC", one["net_ms"] <= one["mc_ms"])
+        add("SNERT iteration, 1 thread", label,
+            f"{fmt(one['relax_ns_per_node'])} ns/node ({one['nodes']} nodes)", "<= 25 ns/node",
+            one["relax_ns_per_node"] <= 25)
+        if many > 1:
+            speedup = one["relax_ms"] / all_["relax_ms"]
+            add(f"SNERT iteration, {many} threads", label,
+                f"{fmt(all_['relax_ns_per_node'])} ns/node: {speedup:.2f}x faster",
+                ">= 1.8x faster", speedup >= 1.8)
+        for t, run in ((1, one), (many, all_)) if many > 1 else ((1, one),):
+            iterations = run["metrics_ms"] / run["relax_ms"]
+            add(f"metrics of a mesh, {t} thread{'s' if t > 1 else ''}", label,
+                f"{fmt(run['metrics_ms'])} ms = {iterations:.1f} iterations "
+                f"(+ distance to MC {fmt(run['to_mc_ms'])} ms)", "<= 2 iterations",
+                iterations <= 2)
+        add(f"compare --mode snert after reading, {many} thread{'s' if many > 1 else ''}",
+            label, f"{fmt(all_['compare_ms'])} ms = {all_['compare_ms'] / f:.1f}x FE", "-",
+            None)
     if ct:
         for iso in ISOS[:1] if quick else ISOS:
-            wall, peak = time_compare(build, ct, iso)
-            key = f"ct/iso:{iso}"
-            mem = f", peak {peak:.0f} MiB" if peak else ""
-            add("snert compare --mode snert", f"CT 512x512x400 iso {iso}", wall, fe.get(key),
-                "snert/FE <= 4", wall / fe[key] <= 4.0, f" (wall{mem})")
+            wall, peak, mesh_mib = time_compare(snert, ct, iso)
+            f = fe[f"ct/iso:{iso}"]
+            add("snert compare --mode snert (command)", f"CT iso {iso}",
+                f"{fmt(wall)} ms = {wall / f:.1f}x FE", "<= 4x FE", wall / f <= 4.0)
+            dims = peer.get("ct_dims", [512, 512, 400])
+            budget = 4 * dims[0] * dims[1] * dims[2] / 2**20 + 3 * mesh_mib
+            add("  its peak memory", f"CT iso {iso}",
+                f"{fmt(peak)} MiB (float volume + 3x meshes = {budget:.0f} MiB)",
+                "<= float volume + 3x meshes", None if peak is None else peak <= budget)
 
-    head = ("stage", "volume", "snert ms", "FE ms (1 thread)", "snert/FE", "target", "")
-    print(f"snert vs VTK {peer['vtk']} vtkFlyingEdges3D ({peer['smp_backend']}, "
-          f"{peer['threads']} thread); snert with its default threads "
-          f"({os.cpu_count()} cores: src/core/parallel.h has no thread-count knob)"
+    print(f"snert against VTK {peer['vtk']} vtkFlyingEdges3D ({peer['smp_backend']}, "
+          f"{peer['threads']} thread), same run; {cores} cores"
           + ("; QUICK=1" if quick else ""))
+    head = ("stage", "volume", "measured", "target", "")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for r in rows:
         print("| " + " | ".join(r) + " |")
     if not ct:
         print("(no CT rows: ../shared/data is absent)")
+
+    app_stats = os.path.join(HERE, "app_stats.py")
+    if not quick and os.path.exists(app_stats):
+        print()
+        res = subprocess.run([sys.executable, app_stats, build], capture_output=True, text=True)
+        if res.returncode != 0:
+            print(f"app: bench/app_stats.py failed:\n{res.stderr[-2000:]}")
+        else:
+            print(res.stdout.rstrip())
 
 
 if __name__ == "__main__":

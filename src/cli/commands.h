@@ -15,6 +15,7 @@ using Runner = std::function<int()>;
 Runner add_table1(CLI::App& app);
 Runner add_compare(CLI::App& app);
 Runner add_export(CLI::App& app);
+Runner add_bench(CLI::App& app);
 #ifdef SNERT_HAVE_RENDER
 Runner add_render(CLI::App& app);
 #endif

@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "options.h"
+#include "progress_line.h"
 #include "report.h"
 
 namespace snert::cli {
@@ -13,6 +14,7 @@ Runner add_compare(CLI::App& app) {
         InputArgs input;
         PipelineArgs pipeline;
         std::string json;
+        bool quiet = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* command = app.add_subcommand(
@@ -20,11 +22,13 @@ Runner add_compare(CLI::App& app) {
     add_input_options(*command, args->input);
     add_pipeline_options(*command, args->pipeline);
     add_json_option(*command, args->json);
+    add_quiet_option(*command, args->quiet);
     command->footer("The table goes to standard output (to standard error with --json -).\n");
     return [args] {
         const InputChoice choice = input_choice(args->input);
         if (!args->json.empty() && args->json != "-") check_output(args->json, {".json"});
-        const Source source = open_input(choice);
+        const ProgressLine progress("compare", args->quiet);
+        const Source source = open_input(choice, progress.stage("reading"));
         const float iso = choice.iso.value_or(source.suggested_iso);
         const InsideIs inside = choice.inside.value_or(source.suggested_inside);
         const PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
@@ -32,7 +36,8 @@ Runner add_compare(CLI::App& app) {
         std::vector<MethodResult> results;
         nlohmann::json json;
         for (const Method method : compared_methods(args->pipeline.mode)) {
-            results.push_back(run_source_method(method, source, pipeline, m));
+            results.push_back(run_source_method(method, source, pipeline, m,
+                                                progress.stage(std::string(label_of(method)))));
             require_surface(results.back(), m);
         }
         measure_against_marching_cubes(results, *source.volume);

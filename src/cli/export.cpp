@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "io/mesh_io.h"
 #include "options.h"
+#include "progress_line.h"
 #include "report.h"
 
 namespace snert::cli {
@@ -15,6 +16,7 @@ Runner add_export(CLI::App& app) {
         PipelineArgs pipeline;
         Method method = Method::Snert;
         std::string out;
+        bool quiet = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* command =
@@ -27,16 +29,19 @@ Runner add_export(CLI::App& app) {
         ->group("Output");
     // The net is chosen by --method: no --mode here.
     add_pipeline_options(*command, args->pipeline, false);
+    add_quiet_option(*command, args->quiet);
     return [args] {
         const InputChoice choice = input_choice(args->input);
         check_output(args->out, {".stl", ".obj", ".ply", ".off", ".vtk"});
         const MeshFormat format = mesh_format_from_path(args->out);
-        const Source source = open_input(choice);
+        const ProgressLine progress("export", args->quiet);
+        const Source source = open_input(choice, progress.stage("reading"));
         const float iso = choice.iso.value_or(source.suggested_iso);
         const InsideIs inside = choice.inside.value_or(source.suggested_inside);
         const Measured m = measured(source, iso);
-        const MethodResult result = run_source_method(
-            args->method, source, pipeline_options(args->pipeline, iso, inside), m);
+        const MethodResult result =
+            run_source_method(args->method, source, pipeline_options(args->pipeline, iso, inside),
+                              m, progress.stage(std::string(label_of(args->method))));
         require_surface(result, m);
         write_mesh(result.mesh, args->out, format);
         std::cerr << "wrote " << args->out << ": " << result.mesh.vertex_count() << " vertices, "

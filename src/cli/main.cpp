@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
     runners["table1"] = snert::cli::add_table1(app);
     runners["compare"] = snert::cli::add_compare(app);
     runners["export"] = snert::cli::add_export(app);
+    runners["bench"] = snert::cli::add_bench(app);
 #ifdef SNERT_HAVE_RENDER
     runners["render"] = snert::cli::add_render(app);
 #endif

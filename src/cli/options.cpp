@@ -188,10 +188,10 @@ InputChoice input_choice(const InputArgs& a) {
     return c;
 }
 
-Source open_input(const InputChoice& choice) {
+Source open_input(const InputChoice& choice, const Progress& progress) {
     Source source;
     try {
-        source = open_source(choice.spec);
+        source = open_source(choice.spec, progress);
     } catch (const std::invalid_argument& e) {
         throw InputError(e.what());
     } catch (const InputError&) {

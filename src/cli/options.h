@@ -86,7 +86,7 @@ InputChoice input_choice(const InputArgs& args);
 // unknown phantom, a label that does not occur) becomes an InputError. Writes to stderr the
 // file's description, the loader's warnings and, when --iso is not given, which iso was chosen
 // and why.
-Source open_input(const InputChoice& choice);
+Source open_input(const InputChoice& choice, const Progress& progress = {});
 
 // ---- Pipeline ----------------------------------------------------------------------------------
 

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "options.h"
+#include "progress_line.h"
 #include "render/context.h"
 #include "render/figure.h"
 #include "render/image.h"
@@ -76,6 +77,7 @@ Runner add_render(CLI::App& app) {
         CLI::Option* o_iteration = nullptr;
         std::string gl = "auto";
         bool no_caption = false;
+        bool quiet = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* command = app.add_subcommand(
@@ -85,6 +87,7 @@ Runner add_render(CLI::App& app) {
                     "display.\n");
     add_input_options(*command, args->input);
     add_pipeline_options(*command, args->pipeline);
+    add_quiet_option(*command, args->quiet);
     render::FigureOptions& f = args->figure;
     const char* group = "Picture";
     command->add_option("--out", args->out, "the picture to write (replaced atomically)")
@@ -173,7 +176,8 @@ Runner add_render(CLI::App& app) {
         const std::unique_ptr<render::GlContext> context =
             render::create_offscreen_context(args->gl);
 
-        const Source source = open_input(choice);
+        const ProgressLine progress("render", args->quiet);
+        const Source source = open_input(choice, progress.stage("reading"));
         const float iso = choice.iso.value_or(source.suggested_iso);
         const InsideIs inside = choice.inside.value_or(source.suggested_inside);
         PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
@@ -188,9 +192,11 @@ Runner add_render(CLI::App& app) {
 
         std::vector<MethodResult> results;
         if (args->layout != RenderLayout::Net)
-            results.push_back(run_source_method(Method::MarchingCubes, source, pipeline, m));
+            results.push_back(run_source_method(Method::MarchingCubes, source, pipeline, m,
+                                                progress.stage("Marching Cubes")));
         if (args->layout != RenderLayout::Mc)
-            results.push_back(run_source_method(net, source, pipeline, m));
+            results.push_back(run_source_method(net, source, pipeline, m,
+                                                progress.stage(std::string(label_of(net)))));
         for (const MethodResult& r : results) require_surface(r, m);
         measure_against_marching_cubes(results, *source.volume);
 

@@ -33,10 +33,10 @@ std::vector<Method> compared_methods(std::optional<RelaxMode> mode) {
 }
 
 MethodResult run_source_method(Method method, const Source& source, const PipelineOptions& options,
-                               const Measured& m) {
+                               const Measured& m, const Progress& progress) {
     PipelineOptions o = options;
     o.measure.reference_volume = m.reference.volume;
-    return run_method(method, *source.volume, source.mask.get(), o, m.reference.distance);
+    return run_method(method, *source.volume, source.mask.get(), o, m.reference.distance, progress);
 }
 
 void require_surface(const MethodResult& result, const Measured& m) {

@@ -29,7 +29,7 @@ std::vector<Method> compared_methods(std::optional<RelaxMode> mode);
 
 // Runs `method` on the source (core's run_method, with the label's mask when there is one).
 MethodResult run_source_method(Method method, const Source& source, const PipelineOptions& options,
-                               const Measured& measured);
+                               const Measured& measured, const Progress& progress = {});
 
 // Throws InputError naming the input when the method produced no triangle: the volume is all
 // inside or all outside at this iso, which is bad input, not a result to report.

@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "options.h"
+#include "progress_line.h"
 #include "report.h"
 
 namespace snert::cli {
@@ -13,6 +14,7 @@ Runner add_table1(CLI::App& app) {
         int size = 64;
         PipelineArgs pipeline;
         std::string json;
+        bool quiet = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* command = app.add_subcommand(
@@ -24,11 +26,13 @@ Runner add_table1(CLI::App& app) {
     // Table 1 compares MC, SNA and SNERT: no --mode.
     add_pipeline_options(*command, args->pipeline, false);
     add_json_option(*command, args->json);
+    add_quiet_option(*command, args->quiet);
     return [args] {
         if (!args->json.empty() && args->json != "-") check_output(args->json, {".json"});
         std::ostream& table = args->json == "-" ? std::cerr : std::cout;
         nlohmann::json json;
         nlohmann::json phantoms = nlohmann::json::array();
+        const ProgressLine progress("table1", args->quiet);
         for (const char* name : {"plane", "sphere", "two-spheres"}) {
             InputChoice choice;
             choice.spec.input = std::string("phantom:") + name;
@@ -42,7 +46,9 @@ Runner add_table1(CLI::App& app) {
             std::string key = name;
             if (key == "two-spheres") key = "two_spheres";
             for (const Method method : compared_methods(std::nullopt))
-                results.push_back(run_source_method(method, source, pipeline, m));
+                results.push_back(run_source_method(
+                    method, source, pipeline, m,
+                    progress.stage(std::string(name) + " " + std::string(label_of(method)))));
             measure_against_marching_cubes(results, *source.volume);
             for (const MethodResult& r : results)
                 json[key][std::string(name_of(r.method))] = method_json(r, m);

@@ -38,13 +38,16 @@ int split_polygon(const SurfaceNet& net, std::uint32_t id, bool along_ac, Triang
 // cheap for the many triangles whose smallest angle is at least 18 degrees: their ratio is at
 // least 0.1 whatever the largest, so they count as 1 (no sliver). sin(smallest) = 2 area /
 // (product of the two longer sides).
+// Compared squared, so the common case takes no square root.
 float sliver_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     const glm::vec3 ab = b - a, bc = c - b, ca = a - c;
-    const float lab = glm::length(ab), lbc = glm::length(bc), lca = glm::length(ca);
-    const float twice_area = glm::length(glm::cross(ab, -ca));
-    const float shortest = std::min({lab, lbc, lca});
-    const float product = lab * lbc * lca / std::max(shortest, 1e-30f);
-    if (twice_area >= 0.30902f * product) return 1.0f; // sin 18 degrees: not a sliver
+    const float ab2 = glm::dot(ab, ab), bc2 = glm::dot(bc, bc), ca2 = glm::dot(ca, ca);
+    const glm::vec3 normal = glm::cross(ab, -ca);
+    const float twice_area2 = glm::dot(normal, normal);
+    const float shortest2 = std::min({ab2, bc2, ca2});
+    const float product2 = ab2 * bc2 * ca2 / std::max(shortest2, 1e-30f);
+    constexpr float kSin18 = 0.30902f;
+    if (twice_area2 >= kSin18 * kSin18 * product2) return 1.0f; // not a sliver
     return triangle_shape(a, b, c).quality;
 }
 
@@ -66,9 +69,9 @@ float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, bool al
 struct TriangleData {
     Triangle nodes;
     glm::vec3 corner[3];
-    glm::dvec3 normal; // (b - a) x (c - a), in double
-    double normal_length;
-    glm::vec3 lo, hi; // bounding box
+    glm::dvec3 normal;  // (b - a) x (c - a), in double
+    double normal_size; // |n.x| + |n.y| + |n.z|: no square root, and at least |n|
+    glm::vec3 lo, hi;   // bounding box
 };
 
 TriangleData triangle_data(const Triangle& t, std::span<const glm::vec3> p) {
@@ -77,7 +80,7 @@ TriangleData triangle_data(const Triangle& t, std::span<const glm::vec3> p) {
     for (int k = 0; k < 3; ++k) d.corner[k] = p[t[std::size_t(k)]];
     const glm::dvec3 a0(d.corner[0]);
     d.normal = glm::cross(glm::dvec3(d.corner[1]) - a0, glm::dvec3(d.corner[2]) - a0);
-    d.normal_length = glm::length(d.normal);
+    d.normal_size = std::abs(d.normal.x) + std::abs(d.normal.y) + std::abs(d.normal.z);
     d.lo = glm::min(d.corner[0], glm::min(d.corner[1], d.corner[2]));
     d.hi = glm::max(d.corner[0], glm::max(d.corner[1], d.corner[2]));
     return d;
@@ -88,7 +91,7 @@ TriangleData triangle_data(const Triangle& t, std::span<const glm::vec3> p) {
 // meets a's plane at most in shared corners, so the two cannot intersect: the cheap early-out
 // of Moller's test, for the many pairs around one node that share a corner or an edge.
 bool separated_by_plane(const TriangleData& a, const TriangleData& b) {
-    if (!(a.normal_length > 0.0)) return false;
+    if (!(a.normal_size > 0.0)) return false;
     const glm::dvec3 a0(a.corner[0]);
     int below = 0, above = 0;
     for (int k = 0; k < 3; ++k) {
@@ -97,7 +100,7 @@ bool separated_by_plane(const TriangleData& a, const TriangleData& b) {
         const glm::dvec3 w = glm::dvec3(b.corner[k]) - a0;
         const double d = glm::dot(a.normal, w);
         // Float inputs: the rounding error of d is far below 1e-9 of |n| |w|.
-        if (std::abs(d) <= 1e-9 * a.normal_length * (std::abs(w.x) + std::abs(w.y) + std::abs(w.z)))
+        if (std::abs(d) <= 1e-9 * a.normal_size * (std::abs(w.x) + std::abs(w.y) + std::abs(w.z)))
             return false;
         (d < 0.0 ? below : above) += 1;
     }
@@ -114,7 +117,7 @@ void mark(std::vector<std::uint8_t>& flags, std::uint32_t node) {
 // in that shared edge or corner. This settles the coplanar and nearly coplanar neighbours of a
 // flat region, which the triangles' own planes cannot separate.
 bool separated_by_edge_plane(const TriangleData& a, const TriangleData& b) {
-    if (!(a.normal_length > 0.0)) return false;
+    if (!(a.normal_size > 0.0)) return false;
     for (int i = 0; i < 3; ++i) {
         const int j = (i + 1) % 3, k = (i + 2) % 3;
         const glm::dvec3 origin(a.corner[i]);
@@ -137,6 +140,105 @@ bool separated_by_edge_plane(const TriangleData& a, const TriangleData& b) {
         if (separated) return true;
     }
     return false;
+}
+
+// The star of a node: the polygons around it, as a closed fan. Each polygon is seen from the
+// node: the corner after it in winding order (`next`), the opposite one of a quad, and the one
+// before it (`prev`). Around a node inside the surface the fans chain up: the polygon after a
+// fan is the one whose `next` is the fan's `prev` (they share that edge, wound oppositely).
+struct Fan {
+    std::uint32_t id, next, opposite, prev;
+    bool quad;
+};
+constexpr int kMaxFans = 12;
+
+// The star of `node` in chain order; 0 when it is not one closed fan (a node on the volume
+// border, a non-manifold vertex, an unusually large star): then there is no shortcut.
+int closed_fan(const SurfaceNet& net, std::uint32_t node, Fan (&order)[kMaxFans]) {
+    const std::uint32_t first = net.star_offsets[node], last = net.star_offsets[node + 1];
+    const int count = int(last - first);
+    if (count < 3 || count > kMaxFans) return 0;
+    Fan fans[kMaxFans];
+    for (int k = 0; k < count; ++k) {
+        const std::uint32_t id = net.star[first + std::uint32_t(k)];
+        std::array<std::uint32_t, 4> c{};
+        const int n = polygon_corners(net, id, c);
+        int at = -1;
+        for (int i = 0; i < n; ++i)
+            if (c[std::size_t(i)] == node) at = i;
+        if (at < 0) return 0;
+        const auto corner = [&](int offset) { return c[std::size_t((at + offset) % n)]; };
+        fans[k] = {id, corner(1), n == 4 ? corner(2) : 0u, corner(n - 1), n == 4};
+    }
+    std::uint32_t used = 1;
+    order[0] = fans[0];
+    for (int k = 1; k < count; ++k) {
+        int found = -1;
+        for (int j = 0; j < count && found < 0; ++j)
+            if (!(used >> j & 1u) && fans[j].next == order[k - 1].prev) found = j;
+        if (found < 0) return 0;
+        used |= 1u << found;
+        order[k] = fans[found];
+    }
+    return order[0].next == order[count - 1].prev ? count : 0;
+}
+
+// True when the triangles of `node`'s star (its polygons split as `along_ac` says) certainly
+// meet only in shared corners and edges, shown without testing pairs: projected along the
+// star's mean normal, every triangle keeps its orientation and the star's rim turns once around
+// the node, monotonically. Then the projection is one-to-one on the star (the rim is a
+// star-shaped polygon around the node and each polygon fills its own wedge of it), so no two
+// triangles can meet in space. Decided in float with a wide margin; false when unsure, and the
+// pairs are tested (check_cell). On a smooth surface this settles nearly every cell.
+bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
+                      const std::vector<std::uint8_t>& along_ac, std::span<const glm::vec3> p) {
+    Fan fans[kMaxFans];
+    const int count = closed_fan(net, node, fans);
+    if (count == 0) return false;
+    const glm::vec3 centre = p[node];
+    Triangle triangles[2 * kMaxFans];
+    int triangle_count = 0;
+    glm::vec3 rim[2 * kMaxFans]; // the corners around the node, from the node
+    int rim_count = 0;
+    glm::vec3 normal(0.0f);
+    for (int k = 0; k < count; ++k) {
+        const Fan& f = fans[k];
+        triangle_count +=
+            split_polygon(net, f.id, f.quad && along_ac[f.id] != 0, &triangles[triangle_count]);
+        rim[rim_count++] = p[f.next] - centre;
+        if (f.quad) rim[rim_count++] = p[f.opposite] - centre;
+    }
+    glm::vec3 triangle_normals[2 * kMaxFans];
+    for (int t = 0; t < triangle_count; ++t) {
+        const glm::vec3 a = p[triangles[t][0]];
+        triangle_normals[t] = glm::cross(p[triangles[t][1]] - a, p[triangles[t][2]] - a);
+        normal += triangle_normals[t];
+    }
+    // positive(x, size2): x > 0 beyond float rounding, x being a product of vectors whose squared
+    // sizes multiply to size2, and of the normal. Compared squared: no square roots.
+    constexpr float kMargin2 = 1e-8f; // (1e-4)^2
+    const float normal2 = glm::dot(normal, normal);
+    const auto positive = [&](float x, float size2) {
+        return x > 0.0f && x * x > kMargin2 * size2 * normal2;
+    };
+    for (int t = 0; t < triangle_count; ++t)
+        if (!positive(glm::dot(triangle_normals[t], normal),
+                      glm::dot(triangle_normals[t], triangle_normals[t])))
+            return false;
+    float rim2[2 * kMaxFans];
+    for (int k = 0; k < rim_count; ++k) rim2[k] = glm::dot(rim[k], rim[k]);
+    // Every turn of the rim is positive (under half a turn) ...
+    const auto turn = [&](glm::vec3 a, glm::vec3 b) { return glm::dot(glm::cross(a, b), normal); };
+    for (int k = 0; k < rim_count; ++k) {
+        const int next = (k + 1) % rim_count;
+        if (!positive(turn(rim[k], rim[next]), rim2[k] * rim2[next])) return false;
+    }
+    // ... and only the last one comes back to the first corner's direction: one turn in all.
+    for (int k = 1; k + 1 < rim_count; ++k)
+        if (!positive(-turn(rim[k], rim[0]), rim2[k] * rim2[0]) &&
+            !positive(-turn(rim[0], rim[k + 1]), rim2[0] * rim2[k + 1]))
+            return false;
+    return true;
 }
 
 // Checks every pair of triangles of the polygons around `cell_nodes` (the nodes of one cell),
@@ -200,16 +302,16 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
     }
 }
 
-// For the changed polygons: records how each quad splits at the new positions in `along_ac`, and
-// marks the nodes of those that became slivers (or worse ones) in `refused`.
+// For the polygons `ids` (every polygon when empty): records how each quad splits at the new
+// positions in `along_ac`, and marks the nodes of those that became slivers (or worse ones) in
+// `refused`.
 void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing, Points old_p,
-                   Points new_p, const std::vector<std::uint8_t>& changed,
+                   Points new_p, std::span<const std::uint32_t> ids,
                    std::vector<std::uint8_t>& along_ac, std::vector<std::uint8_t>& refused) {
-    const std::size_t polygons = net.quads.size() + net.triangles.size();
+    const std::size_t polygons = ids.empty() ? net.quads.size() + net.triangles.size() : ids.size();
     for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
-            if (!changed[i]) continue;
-            const auto id = std::uint32_t(i);
+            const auto id = ids.empty() ? std::uint32_t(i) : ids[i];
             const bool quad = id < net.quads.size();
             const bool split_new = quad && splits_along_ac(net, id, new_p.index, rule, spacing);
             if (quad) along_ac[id] = split_new ? 1 : 0;
@@ -325,55 +427,77 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
         for (; it != copies.end() && it->first == cell; ++it) out.push_back(it->second);
     };
 
-    // moved: nodes whose position changed since the last check (all, at first); changed: the
-    // polygons holding one; dirty: the nodes of those, whose cells must be checked again.
+    // The first round checks every polygon and cell. A later one only what the refused moves
+    // changed: the polygons around the nodes moved back (`changed`, also as flags for
+    // check_cell's pairs) and the cells of those polygons' nodes (`dirty_cells`); on real scans a
+    // step takes several rounds, each with a few nodes.
     const std::size_t polygon_count = net.quads.size() + net.triangles.size();
-    std::vector<std::uint8_t> moved(nodes, 1), changed(polygon_count, 1), dirty(nodes, 1);
+    std::vector<std::uint8_t> changed(polygon_count, 1);
+    std::vector<std::uint32_t> changed_ids, dirty_cells, moved;
+    std::vector<std::uint32_t> cell_of; // node -> cell (index of cell_starts), from round 2 on
+    constexpr std::uint32_t kNoCell = UINT32_MAX;
     std::vector<std::uint8_t> refused(nodes, 0), shortened(nodes, 0), along_ac(net.quads.size());
     constexpr int kHalvings = 2, kMaxRounds = 64;
     for (int round = 0; round < kMaxRounds; ++round) {
-        std::fill(refused.begin(), refused.end(), 0);
-        check_quality(net, rule, spacing, old_p, new_p, changed, along_ac, refused);
+        check_quality(net, rule, spacing, old_p, new_p, changed_ids, along_ac, refused);
         constexpr std::size_t kChunk = 1024;
-        for_each_chunk(cell_starts.size(), kChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+        const std::size_t cells = round == 0 ? cell_starts.size() : dirty_cells.size();
+        for_each_chunk(cells, kChunk, [&](std::size_t, std::size_t b, std::size_t e) {
             std::vector<std::uint32_t> polygons, members, owner;
             std::vector<TriangleData> triangles;
-            for (std::size_t c = b; c < e; ++c) {
-                cell_nodes(c, members);
-                bool any = false;
-                for (std::uint32_t n : members) any = any || dirty[n] != 0;
-                if (any)
-                    check_cell(net, members, along_ac, new_p, changed, polygons, triangles, owner,
-                               refused);
+            for (std::size_t i = b; i < e; ++i) {
+                cell_nodes(round == 0 ? i : dirty_cells[i], members);
+                // A cell of one node checks the pairs of that node's star only.
+                if (members.size() == 1 && star_is_embedded(net, members[0], along_ac, new_p.world))
+                    continue;
+                check_cell(net, members, along_ac, new_p, changed, polygons, triangles, owner,
+                           refused);
             }
         });
         // Shorten the refused moves, and check again around them.
-        std::fill(moved.begin(), moved.end(), 0);
-        bool any = false;
+        moved.clear();
         for (std::uint32_t n = 0; n < nodes; ++n) {
-            if (!refused[n] || new_positions[n] == old_positions[n]) continue;
-            any = true;
-            moved[n] = 1;
+            if (!refused[n]) continue;
+            refused[n] = 0;
+            if (new_positions[n] == old_positions[n]) continue;
+            moved.push_back(n);
             shortened[n] = 1;
             new_positions[n] = round < kHalvings
                                    ? old_positions[n] + 0.5f * (new_positions[n] - old_positions[n])
                                    : old_positions[n];
             new_world[n] = to_world(new_positions[n]);
         }
-        if (!any) break;
-        std::fill(changed.begin(), changed.end(), 0);
-        std::fill(dirty.begin(), dirty.end(), 0);
-        for (std::uint32_t n = 0; n < nodes; ++n) {
-            if (!moved[n]) continue;
-            for (std::uint32_t k = net.star_offsets[n]; k < net.star_offsets[n + 1]; ++k) {
-                const std::uint32_t id = net.star[k];
-                changed[id] = 1;
-                if (id < net.quads.size())
-                    for (std::uint32_t m : net.quads[id]) dirty[m] = 1;
-                else
-                    for (std::uint32_t m : net.triangles[id - net.quads.size()]) dirty[m] = 1;
+        if (moved.empty()) break;
+        if (round == 0)
+            std::fill(changed.begin(), changed.end(), 0);
+        else
+            for (std::uint32_t id : changed_ids) changed[id] = 0;
+        changed_ids.clear();
+        for (std::uint32_t n : moved)
+            for (std::uint32_t k = net.star_offsets[n]; k < net.star_offsets[n + 1]; ++k)
+                if (const std::uint32_t id = net.star[k]; !changed[id]) {
+                    changed[id] = 1;
+                    changed_ids.push_back(id);
+                }
+        if (changed_ids.empty()) break;
+        if (cell_of.empty()) {
+            cell_of.assign(nodes, kNoCell);
+            std::vector<std::uint32_t> members;
+            for (std::size_t c = 0; c < cell_starts.size(); ++c) {
+                cell_nodes(c, members);
+                for (std::uint32_t n : members) cell_of[n] = std::uint32_t(c);
             }
         }
+        dirty_cells.clear();
+        for (std::uint32_t id : changed_ids) {
+            std::array<std::uint32_t, 4> corners{};
+            const int count = polygon_corners(net, id, corners);
+            for (int k = 0; k < count; ++k)
+                if (const std::uint32_t c = cell_of[corners[std::size_t(k)]]; c != kNoCell)
+                    dirty_cells.push_back(c);
+        }
+        std::sort(dirty_cells.begin(), dirty_cells.end());
+        dirty_cells.erase(std::unique(dirty_cells.begin(), dirty_cells.end()), dirty_cells.end());
     }
     return std::size_t(std::count(shortened.begin(), shortened.end(), 1));
 }

@@ -4,6 +4,10 @@
 // chunks are handed to up to one thread per core. Per-chunk partial results combined in chunk
 // order are therefore identical on every machine. A range of one chunk runs on the calling
 // thread, where starting threads would cost more than the work.
+//
+// How many threads: one per core, unless a ThreadLimit is alive on the calling thread. The
+// limit is scoped to the thread that sets it (a benchmark's `--threads 1`, an embedding program
+// that runs its own pool) and changes speed only, never a result.
 #pragma once
 
 #include <algorithm>
@@ -16,6 +20,31 @@
 
 namespace snert {
 
+namespace detail {
+inline thread_local unsigned thread_limit = 0; // 0: one thread per core
+} // namespace detail
+
+// While alive, for_each_chunk calls made on this thread use at most `threads` threads (0: one
+// per core). Limits nest; the previous one comes back on destruction.
+class ThreadLimit {
+  public:
+    explicit ThreadLimit(unsigned threads) : previous_(detail::thread_limit) {
+        detail::thread_limit = threads;
+    }
+    ~ThreadLimit() { detail::thread_limit = previous_; }
+    ThreadLimit(const ThreadLimit&) = delete;
+    ThreadLimit& operator=(const ThreadLimit&) = delete;
+
+  private:
+    unsigned previous_;
+};
+
+// Threads for_each_chunk may use on the calling thread: the ThreadLimit, else the core count.
+inline unsigned thread_budget() {
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    return detail::thread_limit == 0 ? cores : std::min(detail::thread_limit, cores);
+}
+
 // Number of chunks for_each_chunk uses for n items.
 inline std::size_t chunk_count(std::size_t n, std::size_t chunk_size) {
     return (n + chunk_size - 1) / chunk_size;
@@ -26,8 +55,7 @@ inline std::size_t chunk_count(std::size_t n, std::size_t chunk_size) {
 // out of further chunks and is rethrown after every thread has joined.
 template <class Body> void for_each_chunk(std::size_t n, std::size_t chunk_size, const Body& body) {
     const std::size_t chunks = chunk_count(n, chunk_size);
-    const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t threads = std::min(chunks, cores);
+    const std::size_t threads = std::min<std::size_t>(chunks, thread_budget());
     auto run_chunk = [&](std::size_t c) {
         body(c, c * chunk_size, std::min(n, (c + 1) * chunk_size));
     };

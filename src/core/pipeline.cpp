@@ -22,8 +22,9 @@ DistanceFunction first_order_distance(std::shared_ptr<const Volume> volume, floa
     if (!volume) return {};
     // |I(p) - iso| / |grad I(p)|: the distance to the iso-surface if the field were linear.
     return [volume, iso](glm::vec3 p) {
-        const float difference = std::abs(sample_trilinear(*volume, p) - iso);
-        const float slope = glm::length(gradient_central(*volume, p));
+        const ValueGradient here = sample_value_gradient(*volume, p);
+        const float difference = std::abs(here.value - iso);
+        const float slope = glm::length(here.gradient);
         return slope > 1e-12f ? difference / slope : 0.0f;
     };
 }

@@ -44,9 +44,11 @@ struct GradientStep {
     float d = 0.0f;       // distance to the iso-surface along g (eq. 4), same unit
 };
 
-glm::vec3 grey_gradient(const GreyField& grey, glm::vec3 p) {
-    return grey.gradient.values.empty() ? gradient_central(*grey.volume, p)
-                                        : sample_trilinear(grey.gradient, p);
+// The grey value and its gradient at p: central differences from the samples around p's cell,
+// or the precomputed field.
+ValueGradient grey_sample(const GreyField& grey, glm::vec3 p) {
+    if (grey.gradient.values.empty()) return sample_value_gradient(*grey.volume, p);
+    return {sample_trilinear(*grey.volume, p), sample_trilinear(grey.gradient, p)};
 }
 
 // g = SIGN(Iiso - I(p)) grad I / |grad I| (eq. 3), and d from a linear model of I along g:
@@ -56,8 +58,9 @@ glm::vec3 grey_gradient(const GreyField& grey, glm::vec3 p) {
 // the node moves along the true normal.
 GradientStep gradient_step(const GreyField& grey, glm::vec3 p) {
     GradientStep step;
-    const float value = sample_trilinear(*grey.volume, p);
-    const glm::vec3 gradient = grey_gradient(grey, p) / grey.scale;
+    const ValueGradient here = grey_sample(grey, p);
+    const float value = here.value;
+    const glm::vec3 gradient = here.gradient / grey.scale;
     const float length = glm::length(gradient);
     if (!(length > kMinGradient) || !std::isfinite(value)) return step;
     const float difference = grey.iso - value;

@@ -51,6 +51,14 @@ float sample_trilinear(const Volume& volume, glm::vec3 p);
 // the 8 surrounding samples (one-sided at the border), trilinearly interpolated.
 glm::vec3 gradient_central(const Volume& volume, glm::vec3 p);
 
+// sample_trilinear and gradient_central at once, equal to them bit for bit: the 8 corner samples
+// and their neighbours are addressed once, which is what a relaxation step needs per node.
+struct ValueGradient {
+    float value = 0.0f;
+    glm::vec3 gradient{0.0f};
+};
+ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p);
+
 // Gradient field of Gaussian-derivative filters with standard deviation `sigma` (in voxels),
 // one vec3 per sample, same layout as Volume::samples. Separable, truncated at 3 sigma, the
 // border extended by clamping. sigma <= 0 falls back to central differences per sample.

@@ -148,6 +148,32 @@ expect_exit 0 "" -- "$SNERT" table1 --size 16 --iterations 5 --json "$tmp/t.json
 python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert set(j)=={'plane','sphere','two_spheres','provenance'}; assert set(j['sphere'])=={'mc','sna','snert'}; assert [p['phantom'] for p in j['provenance']['input']['phantoms']]==['plane','sphere','two-spheres']; assert j['provenance']['relaxation']['iterations']==5" "$tmp/t.json" || fail "table1 JSON"
 
 
+# bench: the stages timed, with a thread limit; the JSON `make bench` reads.
+expect_exit 0 "" -- "$SNERT" bench --size 32 --threads 1 --repeat 1 --json "$tmp/b.json"
+grep -q "SNERT iteration" "$tmp/out" || fail "bench table lacks the iteration row"
+python3 - "$tmp/b.json" <<'PY' || fail "bench JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+for key in ("mc_ms", "net_ms", "relax_ns_per_node", "metrics_ms", "compare_ms", "nodes",
+            "triangles", "threads", "size", "peak_rss_mb"):
+    assert key in j, key
+assert j["threads"] == 1 and j["size"] == [32, 32, 32] and j["nodes"] > 0, j
+assert 0 < j["mc_ms"] < j["compare_ms"], j
+PY
+expect_exit 2 "--volume excludes --size|--size excludes --volume" -- "$SNERT" bench --size 32 --volume "$tmp/v.nrrd"
+expect_exit 2 "--iso requires --volume" -- "$SNERT" bench --iso 3
+
+# Progress: one line redrawn on a terminal (script gives the command one), nothing in a log.
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 24 --iterations 3
+grep -q $'\r' "$tmp/err" && fail "progress written to a stderr that is not a terminal"
+if command -v script >/dev/null; then
+    script -qec "$SNERT compare phantom:sphere --size 24 --iterations 3 >/dev/null" /dev/null >"$tmp/tty" 2>&1
+    grep -q "snert compare: SNERT [0-9]* %" "$tmp/tty" || fail "no progress line on a terminal"
+    script -qec "$SNERT compare phantom:sphere --size 24 --iterations 3 --quiet >/dev/null" /dev/null >"$tmp/tty" 2>&1
+    grep -q "%" "$tmp/tty" && fail "--quiet still shows progress"
+    pass
+fi
+
 # Real volumes, when the shared data folder is there.
 data=${SNERT_DATA_DIR:-}
 if [ -n "$data" ] && [ -d "$data" ]; then

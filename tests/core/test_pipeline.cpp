@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <string>
+#include <thread>
 #include <vector>
 
+#include "core/parallel.h"
 #include "core/phantom.h"
 #include "core/pipeline.h"
 
@@ -53,6 +56,56 @@ TEST(Pipeline, NothingToMeasureWithoutMarchingCubes) {
     results.erase(results.begin());
     measure_against_marching_cubes(results, sphere.volume);
     for (const MethodResult& r : results) EXPECT_FALSE(r.metrics.to_marching_cubes);
+}
+
+} // namespace
+} // namespace snert
+
+namespace snert {
+namespace {
+
+// A whole comparison on a real-looking volume (the noisy sphere: slivers, refused moves) gives
+// the same meshes and numbers with one thread as with one per core.
+TEST(Pipeline, ResultsDoNotDependOnTheThreadCount) {
+    const Phantom noisy = make_phantom("noisy-sphere", 40);
+    auto run = [&](unsigned threads) {
+        const ThreadLimit limit(threads);
+        std::vector<MethodResult> results = sphere_comparison(noisy);
+        measure_against_marching_cubes(results, noisy.volume);
+        return results;
+    };
+    const std::vector<MethodResult> one = run(1), all = run(0);
+    ASSERT_EQ(one.size(), all.size());
+    for (std::size_t m = 0; m < one.size(); ++m) {
+        SCOPED_TRACE(std::string(name_of(one[m].method)));
+        EXPECT_EQ(one[m].mesh.positions, all[m].mesh.positions);
+        EXPECT_EQ(one[m].mesh.indices, all[m].mesh.indices);
+        EXPECT_EQ(one[m].metrics.quality.mean, all[m].metrics.quality.mean);
+        EXPECT_EQ(one[m].metrics.smoothness, all[m].metrics.smoothness);
+        EXPECT_EQ(one[m].metrics.shortened_moves, all[m].metrics.shortened_moves);
+        if (one[m].metrics.to_marching_cubes) {
+            EXPECT_EQ(one[m].metrics.to_marching_cubes->surface_mean,
+                      all[m].metrics.to_marching_cubes->surface_mean);
+        }
+    }
+}
+
+TEST(Parallel, ThreadLimitsNestAndComeBack) {
+    const unsigned cores = thread_budget();
+    {
+        const ThreadLimit one(1);
+        EXPECT_EQ(thread_budget(), 1u);
+        {
+            const ThreadLimit none(0);
+            EXPECT_EQ(thread_budget(), cores);
+        }
+        EXPECT_EQ(thread_budget(), 1u);
+        // Another thread has its own limit: one per core.
+        unsigned other = 0;
+        std::thread([&] { other = thread_budget(); }).join();
+        EXPECT_EQ(other, cores);
+    }
+    EXPECT_EQ(thread_budget(), cores);
 }
 
 } // namespace

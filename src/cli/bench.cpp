@@ -1,0 +1,247 @@
+// snert bench: the pipeline's stages timed one by one, on the sphere phantom or a volume file,
+// with a chosen number of threads: reading, Marching Cubes, building the net, one SNERT
+// iteration, the metrics of a mesh, and the whole of `compare --mode snert`. `make bench` runs it
+// beside VTK's flying edges and prints the ratios (bench/report.py).
+#include <sys/resource.h>
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "commands.h"
+#include "core/parallel.h"
+#include "options.h"
+#include "progress_line.h"
+#include "report.h"
+
+namespace snert::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Processor time of all the process's threads (milliseconds): on a busy machine it changes
+// less than wall time, so before/after comparisons of one pass use it.
+double cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) / 1e6;
+}
+
+struct Timing {
+    double ms = 0, cpu_ms = 0; // medians
+};
+
+// Medians of `repeat` timed runs of `run`.
+template <class Run> Timing median_time(int repeat, const Run& run) {
+    std::vector<double> wall, cpu;
+    for (int r = 0; r < repeat; ++r) {
+        const Clock::time_point start = Clock::now();
+        const double cpu_start = cpu_ms();
+        run();
+        wall.push_back(ms_since(start));
+        cpu.push_back(cpu_ms() - cpu_start);
+    }
+    std::sort(wall.begin(), wall.end());
+    std::sort(cpu.begin(), cpu.end());
+    return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
+}
+
+double peak_rss_mb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0; // kilobytes on Linux
+}
+
+struct Row {
+    std::string stage;
+    Timing time;
+    std::string rate; // throughput, or what the time is per
+};
+
+} // namespace
+
+Runner add_bench(CLI::App& app) {
+    struct Args {
+        int size = 256;
+        std::string volume;
+        float iso = 0.0f;
+        CLI::Option* o_iso = nullptr;
+        unsigned threads = 0;
+        int repeat = 3;
+        PipelineArgs pipeline;
+        std::string json;
+        bool quiet = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* command = app.add_subcommand(
+        "bench", "time the pipeline's stages on the sphere phantom or a volume file");
+    command->footer("Times are wall clock, medians of --repeat runs (the whole comparison runs "
+                    "once). The iteration is the first SNERT iterations from the new net.\n");
+    CLI::Option* o_size = command->add_option("--size", args->size, "sphere phantom of N^3 voxels")
+                              ->check(CLI::Range(8, 1024))
+                              ->type_name("N")
+                              ->capture_default_str();
+    CLI::Option* o_volume =
+        command->add_option("--volume", args->volume, "a volume file instead of the phantom")
+            ->type_name("FILE")
+            ->excludes(o_size);
+    args->o_iso = command->add_option("--iso", args->iso, "the iso of --volume")
+                      ->type_name("V")
+                      ->needs(o_volume);
+    command->add_option("--threads", args->threads, "threads the passes may use (0: one per core)")
+        ->check(CLI::Range(0u, 1024u))
+        ->type_name("T")
+        ->capture_default_str();
+    command->add_option("--repeat", args->repeat, "runs per stage; the median is reported")
+        ->check(CLI::Range(1, 100))
+        ->type_name("R")
+        ->capture_default_str();
+    // The relaxation's options as compare takes them (the net is SNERT's).
+    add_pipeline_options(*command, args->pipeline, false);
+    add_json_option(*command, args->json);
+    add_quiet_option(*command, args->quiet);
+    return [args] {
+        if (!args->json.empty() && args->json != "-") check_output(args->json, {".json"});
+        const ThreadLimit limit(args->threads);
+        InputChoice choice;
+        choice.spec.input = args->volume.empty() ? "phantom:sphere" : args->volume;
+        choice.spec.phantom_size = args->size;
+        if (args->o_iso->count()) choice.iso = args->iso;
+        const ProgressLine progress("bench", args->quiet);
+
+        std::vector<Row> rows;
+        Source source;
+        const Timing read =
+            median_time(1, [&] { source = open_input(choice, progress.stage("reading")); });
+        const Volume& volume = *source.volume;
+        const float iso = choice.iso.value_or(source.suggested_iso);
+        const InsideIs inside = source.suggested_inside;
+        const double mvoxels = double(volume.voxel_count()) / 1e6;
+        const auto per_second = [&](Timing t) {
+            std::ostringstream text;
+            text << std::fixed << std::setprecision(0) << mvoxels / (t.ms / 1e3) << " Mvoxels/s";
+            return text.str();
+        };
+        rows.push_back({"read the volume", read, per_second(read)});
+
+        progress.stage("Marching Cubes").update(0.0f);
+        Mesh mc;
+        const Timing mc_time = median_time(args->repeat, [&] {
+            mc = Mesh{}; // the previous run's memory is not part of the peak
+            mc = marching_cubes(volume, {iso, inside});
+        });
+        rows.push_back({"Marching Cubes", mc_time, per_second(mc_time)});
+
+        progress.stage("net").update(0.0f);
+        std::unique_ptr<SurfaceNet> net;
+        const Timing net_time = median_time(args->repeat, [&] {
+            net.reset();
+            const Segmentation segmentation = segment_threshold(volume, iso, inside);
+            net = std::make_unique<SurfaceNet>(build_surface_net(segmentation));
+        });
+        rows.push_back({"SurfaceNet build", net_time, per_second(net_time)});
+
+        // Iterations 1, 2, ... from the new net, as compare runs them.
+        progress.stage("SNERT iteration").update(0.0f);
+        PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
+        pipeline.relax.mode = RelaxMode::Snert;
+        const GreyField grey = make_grey_field(volume, pipeline.relax);
+        std::vector<glm::vec3> positions = net->positions, next(positions.size());
+        int iteration = 0;
+        const Timing step = median_time(args->repeat, [&] {
+            relax_step(*net, &grey, pipeline.relax, ++iteration, positions, next);
+            positions.swap(next);
+        });
+        const std::size_t nodes = net->node_count();
+        const double ns_per_node = nodes > 0 ? step.ms * 1e6 / double(nodes) : 0.0;
+        {
+            std::ostringstream text;
+            text << std::fixed << std::setprecision(0) << ns_per_node << " ns/node";
+            rows.push_back({"SNERT iteration", step, text.str()});
+        }
+
+        // Every metric of the SNERT mesh, as compare measures it, and its distance to MC.
+        progress.stage("metrics").update(0.0f);
+        const Measured m = measured(source, iso);
+        const Mesh relaxed =
+            triangulate(*net, positions, pipeline.relax.triangulation, volume.spacing);
+        const std::size_t triangles = relaxed.triangle_count();
+        MeasureOptions what;
+        what.reference_volume = m.reference.volume;
+        const Timing metrics = median_time(
+            args->repeat, [&] { measure(relaxed, volume, m.reference.distance, what); });
+        const auto per_iteration = [&](Timing t) {
+            std::ostringstream text;
+            text << std::fixed << std::setprecision(1) << t.ms / step.ms << " iterations";
+            return text.str();
+        };
+        rows.push_back({"metrics of the mesh", metrics, per_iteration(metrics)});
+        const Mesh relaxed_world = mesh_to_world(relaxed, volume),
+                   mc_world = mesh_to_world(mc, volume);
+        const Timing to_mc =
+            median_time(args->repeat, [&] { distance_to_mesh(relaxed_world, mc_world, volume); });
+        rows.push_back({"distance to MC", to_mc, per_iteration(to_mc)});
+
+        // What `snert compare --mode snert` does after reading: both methods, all metrics.
+        net.reset();
+        mc = Mesh{};
+        const Timing compare = median_time(1, [&] {
+            std::vector<MethodResult> results;
+            for (const Method method : compared_methods(RelaxMode::Snert))
+                results.push_back(run_source_method(method, source, pipeline, m,
+                                                    progress.stage(std::string(label_of(method)))));
+            measure_against_marching_cubes(results, volume);
+        });
+        rows.push_back({"compare --mode snert", compare, per_second(compare)});
+        progress.stage("").update(1.0f);
+
+        const unsigned threads = thread_budget();
+        const double peak = peak_rss_mb();
+        std::ostream& table = args->json == "-" ? std::cerr : std::cout;
+        table << source.title << ", iso " << format_number(iso) << ": " << nodes << " nodes, "
+              << triangles << " SNERT triangles, " << threads << " thread"
+              << (threads == 1 ? "" : "s") << ", peak " << std::fixed << std::setprecision(0)
+              << peak << " MiB\n";
+        table << std::left << std::setw(24) << "stage" << std::right << std::setw(10) << "ms"
+              << std::setw(10) << "cpu ms"
+              << "  rate\n";
+        for (const Row& row : rows)
+            table << std::left << std::setw(24) << row.stage << std::right << std::fixed
+                  << std::setprecision(1) << std::setw(10) << row.time.ms << std::setw(10)
+                  << row.time.cpu_ms << "  " << row.rate << "\n";
+
+        if (!args->json.empty()) {
+            nlohmann::json json = {{"input", choice.spec.input},
+                                   {"iso", iso},
+                                   {"size", {volume.dims.x, volume.dims.y, volume.dims.z}},
+                                   {"threads", threads},
+                                   {"repeat", args->repeat},
+                                   {"load_ms", read.ms},
+                                   {"mc_ms", mc_time.ms},
+                                   {"net_ms", net_time.ms},
+                                   {"relax_ms", step.ms},
+                                   {"relax_cpu_ms", step.cpu_ms},
+                                   {"relax_ns_per_node", ns_per_node},
+                                   {"metrics_ms", metrics.ms},
+                                   {"to_mc_ms", to_mc.ms},
+                                   {"compare_ms", compare.ms},
+                                   {"nodes", nodes},
+                                   {"triangles", triangles},
+                                   {"peak_rss_mb", peak}};
+            write_json(args->json, json);
+        }
+        return 0;
+    };
+}
+
+} // namespace snert::cli
