@@ -3,12 +3,17 @@
 // Lighting is computed in linear RGB and written as sRGB: a key light from the upper left, a
 // weaker fill from the right, a sky/ground hemisphere ambient and a soft highlight. Both sides
 // of a surface are lit (open surfaces such as the plane show their back).
+// SNERT_DIRECT (no wireframe): without the geometry shader, which costs software GL more than
+// the rest together; the facet normal comes from the position's screen derivatives instead (it
+// faces the viewer already) and the triangle from gl_PrimitiveID.
 in FragmentData {
     vec3 position_view;
     vec3 normal_view;
+#ifndef SNERT_DIRECT
     vec3 barycentric;
     flat vec3 facet_normal_view;
     flat int triangle;
+#endif
 } fragment_in;
 
 out vec4 frag_color;
@@ -48,14 +53,27 @@ float highlight(vec3 n, vec3 v) {
 }
 
 void main() {
+#ifdef SNERT_DIRECT
+    vec3 n;
+    if (shading == kSmooth) {
+        n = normalize(fragment_in.normal_view);
+        if (!gl_FrontFacing) n = -n;
+    } else {
+        vec3 facet = cross(dFdx(fragment_in.position_view), dFdy(fragment_in.position_view));
+        n = dot(facet, facet) > 0.0 ? normalize(facet) : vec3(0.0, 0.0, 1.0);
+    }
+    int triangle = gl_PrimitiveID;
+#else
     vec3 n = normalize(shading == kSmooth ? fragment_in.normal_view
                                           : fragment_in.facet_normal_view);
     if (!gl_FrontFacing) n = -n;
+    int triangle = fragment_in.triangle;
+#endif
     vec3 v = normalize(-fragment_in.position_view);
 
     vec3 color;
     if (shading == kQuality) {
-        float q = texelFetch(quality, fragment_in.triangle).r;
+        float q = texelFetch(quality, triangle).r;
         // Sample the texel centres so 0 and 1 give the map's end colours exactly.
         float size = float(textureSize(colormap, 0));
         vec3 albedo = q < quality_threshold
@@ -67,6 +85,7 @@ void main() {
         color = to_linear(surface_color) * diffuse_light(n) + 0.18 * highlight(n, v);
     }
 
+#ifndef SNERT_DIRECT
     if (wireframe) {
         // Distance to the nearest edge in pixels: barycentric / its screen derivative.
         vec3 pixels = fragment_in.barycentric / max(fwidth(fragment_in.barycentric), vec3(1e-6));
@@ -74,5 +93,6 @@ void main() {
         float coverage = 1.0 - smoothstep(line_half_width - 0.5, line_half_width + 0.5, nearest);
         color = mix(color, to_linear(line_color), 0.9 * coverage);
     }
+#endif
     frag_color = vec4(to_srgb(color), 1.0);
 }

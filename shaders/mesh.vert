@@ -7,7 +7,12 @@ layout(location = 1) in vec3 normal;
 uniform mat4 view;
 uniform mat4 projection;
 
+// SNERT_DIRECT: no geometry shader (mesh.geom) between this stage and the fragment shader.
+#ifdef SNERT_DIRECT
+out FragmentData {
+#else
 out VertexData {
+#endif
     vec3 position_view;
     vec3 normal_view;
 } vertex_out;

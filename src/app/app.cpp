@@ -466,13 +466,17 @@ void App::reset_camera() {
 // --- Shortcuts and actions ----------------------------------------------------------------
 
 void App::handle_shortcuts() {
-    const ImGuiIO& io = ImGui::GetIO();
-    if (io.WantTextInput) return; // typing into a field
-    for (const Shortcut& s : shortcuts()) {
-        const bool repeat = s.action == Action::StepBack || s.action == Action::StepForward;
-        if (io.KeyCtrl == s.ctrl && ImGui::IsKeyPressed(s.key, repeat)) {
-            perform(s.action);
-            break;
+    std::vector<KeyPress> presses;
+    presses.swap(key_presses_);
+    if (ImGui::GetIO().WantTextInput) return; // typing into a field
+    for (const KeyPress& press : presses) {
+        for (const Shortcut& s : shortcuts()) {
+            if (press.ctrl == s.ctrl && press.key == s.key) {
+                const bool repeats =
+                    s.action == Action::StepBack || s.action == Action::StepForward;
+                if (!press.repeat || repeats) perform(s.action);
+                break;
+            }
         }
     }
 }
@@ -652,8 +656,8 @@ bool App::animating() const {
     const bool frame_due =
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
     return worker_->busy() || worker_->has_messages() || playing_ || frame_due ||
-           !requested_once_ || results_.generation != worker_->latest_generation() ||
-           notice_timer_ > 0;
+           views_->needs_refine() || !requested_once_ ||
+           results_.generation != worker_->latest_generation() || notice_timer_ > 0;
 }
 
 int App::view_render_count() const {

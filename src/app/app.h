@@ -137,6 +137,13 @@ class App {
     void set_playing(bool playing);
     void run_to_convergence();
     void reset_camera();
+    void turn_camera(float delta_yaw, float delta_pitch) { camera_.orbit(delta_yaw, delta_pitch); }
+    // A key went down (or repeats): shortcuts act on these events, not on the key's state at
+    // frame time, so a press and release between two slow frames is not lost.
+    // Repeats (a key held down) step through the iterations only.
+    void key_pressed(int key, bool ctrl, bool repeat = false) {
+        key_presses_.push_back({key, ctrl, repeat});
+    }
     // Replaces the parameters; a change restarts the computation at the next frame.
     void set_parameters(const Parameters& parameters);
     void request_screenshot(const std::string& path);
@@ -168,6 +175,8 @@ class App {
     const render::OrbitCamera& camera() const { return camera_; }
     // How often the 3D views were redrawn (they are redrawn only when something changed).
     int view_render_count() const;
+    // The views' renderer: per-view draws and uploads (view_renderer.h), for tests.
+    const ViewRenderer& view_renderer() const { return *views_; }
     render::DrawStyle draw_style() const;
     // True while something is changing (a job, playback, a frame on its way): keep drawing
     // frames; otherwise the glue may sleep until the next input event.
@@ -287,7 +296,13 @@ class App {
     float notice_timer_ = 0.0f;
     bool tab_restored_ = false; // the saved bottom tab was selected
     std::map<std::string, UiRect> rects_;
-    UiRect views_rect_; // views + titles, for screenshots
+    struct KeyPress {
+        int key = 0;
+        bool ctrl = false;
+        bool repeat = false;
+    };
+    std::vector<KeyPress> key_presses_; // since the last frame, oldest first
+    UiRect views_rect_;                 // views + titles, for screenshots
 };
 
 } // namespace snert::app

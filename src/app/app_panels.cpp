@@ -657,7 +657,16 @@ void App::draw_quality_tab() {
     ImGui::SetCursorScreenPos(ImVec2(table_x, start.y + pad));
     ImGui::BeginChild("metrics", ImVec2(table_width, inner_height - pad), false);
     if (compact) ImGui::PushFont(fonts_.small);
-    render::metrics_table("metrics table", methods, groups, table_width - fonts_.size, table_fonts);
+    // A frame not measured yet (a step, a moment ago) has its histogram but no table column.
+    std::span<const render::PanelMethod> table_methods = methods;
+    const bool measuring = results_.frame && !results_.frame->metrics_complete;
+    if (measuring) table_methods = table_methods.first(methods.size() - 1);
+    render::metrics_table("metrics table", table_methods, groups, table_width - fonts_.size,
+                          table_fonts);
+    if (measuring)
+        ImGui::TextDisabled("measuring %s, iteration %d...",
+                            std::string(label_of(results_.frame->method)).c_str(),
+                            results_.frame->iteration);
     if (compact) ImGui::PopFont();
     ImGui::EndChild();
 }
@@ -668,16 +677,19 @@ void App::draw_convergence_tab() {
         ImGui::TextDisabled("  the curves appear while the net relaxes");
         return;
     }
+    // The largest moves come with the iterations; the other numbers once measured (in order,
+    // after the relaxation).
     std::vector<float> max_move, quality, smooth, accuracy;
     for (const IterationStats& s : it) {
         max_move.push_back(s.max_move);
+        if (!s.measured || quality.size() + 1 < max_move.size()) continue;
         quality.push_back(float(s.quality_mean));
         smooth.push_back(float(s.smoothness));
         accuracy.push_back(float(s.accuracy_vertices));
     }
     const MethodMetrics* mc = results_.mc ? &results_.mc->metrics : nullptr;
     const ImU32 color = render::method_color_u32(method_of(settings_.parameters.relax.mode));
-    const bool has_accuracy = it.front().accuracy_vertices >= 0;
+    const bool has_accuracy = !accuracy.empty() && accuracy.front() >= 0;
     std::vector<ConvergencePlot> plots = {
         {"Largest move (voxels)",
          "how far the farthest node moved in the iteration; the "

@@ -293,7 +293,9 @@ void App::draw_iteration_bar() {
     if (!results_.error.empty())
         state = "failed";
     else if (!results_.finished)
-        state = has_net ? "relaxing..." : "computing...";
+        state = results_.frame && results_.frame->last ? "measuring iterations..."
+                : has_net                              ? "relaxing..."
+                                                       : "computing...";
     else if (results_.finished->converged)
         state = "converged at " + std::to_string(results_.finished->iterations);
     else

@@ -112,7 +112,9 @@ void HeadlessApp::mouse_button(int button, bool down) {
 
 void HeadlessApp::key(int code, bool down) {
     ImGui::SetCurrentContext(impl_->imgui);
-    ImGui::GetIO().KeysDown[code] = down;
+    ImGuiIO& io = ImGui::GetIO();
+    if (down && !io.KeysDown[code]) app_->key_pressed(code, io.KeyCtrl);
+    io.KeysDown[code] = down;
 }
 
 void HeadlessApp::set_ctrl(bool down) {

@@ -52,6 +52,7 @@ struct IterationStats {
     double smoothness = 0;         // mean |2 pi - angle sum| (radians, best 0)
     double accuracy_vertices = -1; // mean vertex distance to the reference (voxels); -1: none
     double accuracy_faces = -1;    // mean face-centre distance (voxels); -1: none
+    bool measured = false;         // false: only iteration and max_move are known yet
 };
 
 class IterationHistory {

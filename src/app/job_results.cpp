@@ -38,6 +38,8 @@ bool JobResults::apply(const Message& message) {
                 frame = m.mesh;
                 frame_recomputed = m.recomputed;
                 frame_current = true;
+            } else if constexpr (std::is_same_v<T, FrameMetricsMessage>) {
+                if (frame && m.mesh && frame->geometry == m.mesh->geometry) frame = m.mesh;
             } else if constexpr (std::is_same_v<T, FinishedMessage>) {
                 finished = m;
             } else if constexpr (std::is_same_v<T, FailedMessage>) {

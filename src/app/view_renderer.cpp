@@ -28,53 +28,93 @@ ViewRenderer::ViewRenderer() = default;
 ViewRenderer::~ViewRenderer() = default;
 
 void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
-    auto& slot = meshes_[std::size_t(view)];
+    const auto v = std::size_t(view);
+    auto& slot = meshes_[v];
     if (slot == mesh) return;
+    const bool same_geometry =
+        slot && mesh && mesh->geometry != 0 && slot->geometry == mesh->geometry;
+    if (!same_geometry) {
+        if (!mesh)
+            views_[v] = render::MeshView();
+        else if (!slot ||
+                 !views_[v].update(mesh->mesh, slot->mesh.indices, mesh->quality, mesh->normals))
+            views_[v].upload(mesh->mesh, mesh->quality, mesh->normals);
+        dirty_[v] = true;
+    }
     slot = std::move(mesh);
-    if (slot)
-        views_[std::size_t(view)].upload(slot->mesh, slot->quality);
-    else
-        views_[std::size_t(view)] = render::MeshView();
-    dirty_ = true;
+    if (!same_geometry) upload_preview(v);
+}
+
+// The preview's triangles when they are new; their quality (the triangles they stand for) with
+// every new mesh.
+void ViewRenderer::upload_preview(std::size_t v) {
+    const auto& mesh = meshes_[v];
+    const std::shared_ptr<const PreviewMesh> preview =
+        mesh && mesh->preview && !mesh->preview->source.empty() ? mesh->preview : nullptr;
+    if (!preview) {
+        if (previews_[v]) views_[v].set_preview({}, {});
+        previews_[v] = nullptr;
+        return;
+    }
+    std::vector<float> quality(preview->source.size());
+    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = mesh->quality[preview->source[t]];
+    if (previews_[v] == preview) {
+        views_[v].set_preview_quality(quality);
+    } else {
+        views_[v].set_preview(preview->indices, quality);
+        previews_[v] = preview;
+    }
 }
 
 std::optional<Bounds> ViewRenderer::bounds() const {
-    std::optional<Bounds> all;
-    for (const auto& m : meshes_) {
-        if (!m || m->mesh.positions.empty()) continue;
-        const Bounds b = mesh_bounds(m->mesh);
-        if (!all)
-            all = b;
-        else
-            all = Bounds{glm::min(all->min, b.min), glm::max(all->max, b.max)};
-    }
-    return all;
+    // Marching Cubes' when it is there: the camera must not depend on whether the net's first
+    // frame arrived in the same frame as Marching Cubes or later (the net, its dual, has about
+    // the same bounds).
+    for (const auto& m : meshes_)
+        if (m && !m->mesh.positions.empty()) return mesh_bounds(m->mesh);
+    return std::nullopt;
 }
 
 void ViewRenderer::render(int width, int height, const render::OrbitCamera& camera,
                           const render::DrawStyle& style) {
     width = std::max(width, 1);
     height = std::max(height, 1);
+    const bool moving = !same_camera(camera, last_camera_);
+    bool all = moving || !same_style(style, last_style_);
     for (auto& target : targets_) {
         if (!target || target->width() != width || target->height() != height) {
             target = std::make_unique<render::RenderTarget>(width, height, 4);
-            dirty_ = true;
+            all = true;
         }
     }
-    if (!dirty_ && same_camera(camera, last_camera_) && same_style(style, last_style_)) return;
-    for (int i = 0; i < kViews; ++i) {
-        const render::RenderTarget& target = *targets_[std::size_t(i)];
+    bool drew = false;
+    const auto now = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < kViews; ++i) {
+        const bool changed = all || dirty_[i];
+        bool rapid = false;
+        if (changed) {
+            rapid = now - last_change_[i] < kQuiet;
+            last_change_[i] = now;
+        } else if (!refine_[i] || now - last_change_[i] < kQuiet) {
+            continue; // its picture in the texture is still right (or right enough for now)
+        }
+        const bool preview = changed && (moving || rapid) && views_[i].has_preview();
+        const render::RenderTarget& target = *targets_[i];
         target.bind();
         const render::Viewport viewport{0, 0, width, height};
         renderer_.draw_background(viewport, style);
-        if (meshes_[std::size_t(i)] && !views_[std::size_t(i)].empty())
-            renderer_.draw(views_[std::size_t(i)], camera, viewport, style);
+        if (meshes_[i] && !views_[i].empty())
+            renderer_.draw(views_[i], camera, viewport, style, preview);
         target.resolve();
+        dirty_[i] = false;
+        refine_[i] = preview;
+        ++(preview ? preview_draws_ : view_draws_)[i];
+        drew = true;
     }
+    if (!drew) return;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     last_camera_ = camera;
     last_style_ = style;
-    dirty_ = false;
     ++render_count_;
 }
 

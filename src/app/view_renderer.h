@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <optional>
 #include <memory>
 
@@ -21,31 +22,53 @@ namespace snert::app {
 class ViewRenderer {
   public:
     static constexpr int kViews = 2; // 0: Marching Cubes, 1: the net
+    static constexpr std::chrono::milliseconds kQuiet{200};
 
     ViewRenderer();
     ~ViewRenderer();
 
-    // Uploads a view's mesh when it is a different one (null clears the view).
+    // Uploads a view's mesh when it is a different one (null clears the view): nothing for the
+    // same geometry (a frame's measured version), positions, normals and quality only for the
+    // same topology (another iteration), everything otherwise.
     void set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh);
     bool has_mesh(int view) const { return meshes_[std::size_t(view)] != nullptr; }
-    // Bounds of both meshes together (what the camera frames); nullopt when there is none.
+    // What the camera frames: the bounds of Marching Cubes' mesh, else of the net's; nullopt
+    // when there is none.
     std::optional<Bounds> bounds() const;
 
-    // Draws both views at width x height pixels each if anything changed since the last call.
-    // Leaves the framebuffer binding at 0 afterwards (the caller binds its own).
+    // Draws the views at width x height pixels each: a view whose mesh changed, or both when
+    // the camera, the style or the size did; otherwise their last pictures stay. Leaves the
+    // framebuffer binding at 0 afterwards (the caller binds its own).
+    // While the camera moves (it differs from the last render's) or a view's mesh changes in
+    // quick succession (the relaxation playing), a mesh with a preview is drawn as its preview;
+    // once nothing changed for kQuiet, the whole mesh is drawn again.
     void render(int width, int height, const render::OrbitCamera& camera,
                 const render::DrawStyle& style);
+    // A view shows its preview: the next render() draws the whole mesh even if nothing moved.
+    bool needs_refine() const { return refine_[0] || refine_[1]; }
     // The picture of a view (GL convention: row 0 at the bottom); 0 before the first render.
     unsigned texture(int view) const;
-    // Renders performed so far (tests check that an unchanged frame draws nothing).
+    // Calls of render() that drew anything (tests check that an unchanged frame draws nothing).
     int render_count() const { return render_count_; }
+    // Times a view was drawn, and what its mesh sent to the GPU.
+    int view_draws(int view) const { return view_draws_[std::size_t(view)]; }
+    int preview_draws(int view) const { return preview_draws_[std::size_t(view)]; }
+    const render::UploadCounters& uploads(int view) const {
+        return views_[std::size_t(view)].counters();
+    }
 
   private:
+    void upload_preview(std::size_t view);
+
     render::MeshRenderer renderer_;
     std::array<render::MeshView, kViews> views_;
     std::array<std::shared_ptr<const DisplayMesh>, kViews> meshes_;
     std::array<std::unique_ptr<render::RenderTarget>, kViews> targets_;
-    bool dirty_ = true;
+    std::array<bool, kViews> dirty_{true, true};
+    std::array<bool, kViews> refine_{false, false}; // drawn as the preview
+    std::array<std::chrono::steady_clock::time_point, kViews> last_change_{};
+    std::array<std::shared_ptr<const PreviewMesh>, kViews> previews_; // uploaded
+    std::array<int, kViews> view_draws_{}, preview_draws_{};
     render::OrbitCamera last_camera_;
     render::DrawStyle last_style_;
     int render_count_ = 0;

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include <imgui.h>
@@ -15,6 +16,7 @@
 #include <imgui_impl_opengl3.h>
 
 #include "render/image.h"
+#include "stats_session.h"
 
 namespace snert::app {
 
@@ -32,6 +34,13 @@ void on_drop(GLFWwindow* window, int count, const char** paths) {
     auto* app = static_cast<App*>(glfwGetWindowUserPointer(window));
     std::vector<std::string> list(paths, paths + count);
     if (app) app->on_drop(list);
+}
+
+// Key presses go to the app as events (ImGui 1.86 only sees the key's state at frame time).
+void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
+    auto* app = static_cast<App*>(glfwGetWindowUserPointer(window));
+    if (app && (action == GLFW_PRESS || action == GLFW_REPEAT))
+        app->key_pressed(key, (mods & GLFW_MOD_CONTROL) != 0, action == GLFW_REPEAT);
 }
 
 // Owns glfwInit / glfwTerminate and the window.
@@ -78,7 +87,7 @@ bool first_result_ready(const App& app) {
 } // namespace
 
 int run_window(const WindowOptions& options) {
-    const bool automation = !options.screenshot_path.empty();
+    const bool automation = !options.screenshot_path.empty() || options.stats;
     const Settings saved = load_settings(options.app.settings_path);
     const int width = options.width > 0 ? options.width : saved.layout.window_width;
     const int height = options.height > 0 ? options.height : saved.layout.window_height;
@@ -95,7 +104,7 @@ int run_window(const WindowOptions& options) {
     if (!automation && saved.layout.window_x >= 0 && saved.layout.window_y >= 0)
         glfwSetWindowPos(glfw.window, saved.layout.window_x, saved.layout.window_y);
     glfwMakeContextCurrent(glfw.window);
-    glfwSwapInterval(1);
+    glfwSwapInterval(options.stats ? 0 : 1); // stats: measure the work, not the display's rate
     render::load_gl(glfwGetProcAddress);
 
     IMGUI_CHECKVERSION();
@@ -107,11 +116,14 @@ int run_window(const WindowOptions& options) {
     auto app = std::make_unique<App>(app_options);
     glfwSetWindowUserPointer(glfw.window, app.get());
     glfwSetDropCallback(glfw.window, on_drop);
+    glfwSetKeyCallback(glfw.window, on_key); // before ImGui's backend, which chains to it
     ImGui_ImplGlfw_InitForOpenGL(glfw.window, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
 
     int result = 0;
     int frames_after_result = -1; // automation: counting once the first result is in
+    std::optional<StatsSession> stats;
+    if (options.stats) stats.emplace();
     const auto started = std::chrono::steady_clock::now();
     while (!glfwWindowShouldClose(glfw.window) && !app->quit_requested()) {
         // Sleep until an event while nothing changes; draw continuously while it does.
@@ -123,6 +135,8 @@ int run_window(const WindowOptions& options) {
             glfwWaitEventsTimeout(0.1);
             continue;
         }
+        const auto frame_start = std::chrono::steady_clock::now();
+        if (stats) stats->before_frame(*app);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
@@ -139,6 +153,23 @@ int run_window(const WindowOptions& options) {
         if (const auto request = app->take_screenshot_request())
             app->save_screenshot(read_window(fb_width, fb_height), *request, scale);
 
+        if (stats) {
+            glfwSwapBuffers(glfw.window);
+            const std::chrono::duration<double, std::milli> work =
+                std::chrono::steady_clock::now() - frame_start;
+            stats->after_frame(*app, work.count());
+            if (stats->done()) {
+                std::cout << stats->table() << stats->json() << std::endl;
+                break;
+            }
+            if (std::chrono::steady_clock::now() - started > std::chrono::minutes(5)) {
+                std::cerr << "snert gui: the stats session did not finish in 5 minutes\n"
+                          << stats->table();
+                result = 1;
+                break;
+            }
+            continue;
+        }
         if (automation) {
             if (frames_after_result < 0 && first_result_ready(*app)) frames_after_result = 0;
             if (frames_after_result >= 0 && ++frames_after_result >= options.frames) {

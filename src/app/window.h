@@ -21,6 +21,7 @@ struct WindowOptions {
     std::string screenshot_path; // non-empty: automation mode (see run_window)
     int frames = 10;             // automation: frames drawn after the first result
     bool save_settings = true;   // write the settings on exit
+    bool stats = false;          // run the scripted session of stats_session.h, print, exit
 };
 
 // Runs the app until the window is closed (or Quit). In automation mode (screenshot_path
@@ -28,7 +29,8 @@ struct WindowOptions {
 // relaxation), writes the whole window as a PNG and returns 0; an input that does not load or a
 // failed job returns 2 after printing the error (no screenshot of a fallback). Throws NoWindow
 // when no window can be opened (no display), with GLFW's reason; std::runtime_error naming the
-// file when the screenshot cannot be written.
+// file when the screenshot cannot be written. In stats mode it runs StatsSession's script,
+// prints its table and JSON to stdout and returns 0 (1 when it did not finish in 5 minutes).
 int run_window(const WindowOptions& options);
 
 } // namespace snert::app

@@ -11,12 +11,16 @@
 #include <limits>
 
 #include "core/triangulation.h"
+#include "render/normals.h"
 
 namespace snert::app {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// How long a frame asked for must stay the newest request before the measurer measures it.
+constexpr auto kDwell = std::chrono::milliseconds(250);
 
 double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -27,14 +31,59 @@ void throw_if_stopped(const std::stop_token& stop) {
 }
 
 // A pipeline result ready to draw (`iteration`: of the relaxation, -1 for Marching Cubes).
-std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, int iteration = -1) {
+std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, std::uint64_t geometry,
+                                                int iteration = -1) {
     auto display = std::make_shared<DisplayMesh>();
     display->method = result.method;
     display->iteration = iteration;
     display->quality = triangle_quality(result.mesh);
+    display->normals = render::vertex_normals(result.mesh);
     display->mesh = std::move(result.mesh);
     display->metrics = result.metrics;
+    display->geometry = geometry;
+    if (iteration < 0) // the net's frames share their job's preview
+        display->preview = std::make_shared<const PreviewMesh>(make_preview(display->mesh));
     return display;
+}
+
+// What a quick frame shows before it is measured: counts and the quality of its triangles.
+MethodMetrics quick_metrics(const Mesh& mesh, std::span<const float> quality) {
+    MethodMetrics m;
+    m.vertices = mesh.vertex_count();
+    m.triangles = mesh.triangle_count();
+    if (quality.empty()) return m;
+    double sum = 0;
+    m.quality.min = 1.0;
+    for (const float q : quality) {
+        sum += q;
+        m.quality.min = std::min(m.quality.min, double(q));
+        const int bin = std::clamp(int(q * kQualityBins), 0, kQualityBins - 1);
+        ++m.quality.histogram[std::size_t(bin)];
+    }
+    m.quality.mean = sum / double(quality.size());
+    return m;
+}
+
+// The convergence numbers of one iteration: measure()'s, restricted to what the plots show.
+IterationStats measure_iteration(const RelaxContext& c, const DistanceFunction& reference,
+                                 MeasureOptions what, int iteration, float max_move,
+                                 std::span<const glm::vec3> positions) {
+    const Mesh index_mesh =
+        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+    what.convergence_only = true;
+    const MethodMetrics m = measure(index_mesh, *c.volume, reference, what);
+    IterationStats stats;
+    stats.iteration = iteration;
+    stats.max_move = max_move;
+    stats.quality_mean = m.quality.mean;
+    stats.quality_min = m.quality.min;
+    stats.smoothness = m.smoothness;
+    if (m.accuracy) {
+        stats.accuracy_vertices = m.accuracy->vertices_mean;
+        stats.accuracy_faces = m.accuracy->faces_mean;
+    }
+    stats.measured = true;
+    return stats;
 }
 
 } // namespace
@@ -71,10 +120,16 @@ struct Worker::Job {
     std::unique_ptr<IterationHistory> history;
     std::shared_ptr<const DisplayMesh> final_frame; // the pipeline's own mesh of its last iteration
     int frame_sent = -1;                            // iteration of the last frame posted
+    std::vector<float> max_moves;                   // [k]: of iteration k
+    std::stop_token stop;                           // the job's
+    std::shared_ptr<const PreviewMesh> preview;     // of the net's frames
+    int next_to_measure = 0;                        // the next iteration for the measurer
+    std::optional<FinishedMessage> finished;        // posted after the last one is measured
 };
 
 Worker::Worker(WorkerOptions options)
-    : options_(options), thread_([this](std::stop_token stop) { run(stop); }) {}
+    : options_(options), thread_([this](std::stop_token stop) { run(stop); }),
+      measurer_([this](std::stop_token stop) { measure_loop(stop); }) {}
 
 Worker::~Worker() {
     {
@@ -129,8 +184,72 @@ bool Worker::has_messages() const {
 }
 
 bool Worker::busy() const {
-    std::lock_guard lock(mutex_);
-    return working_ || pending_job_.has_value() || continue_request_.has_value() || view_.pending;
+    {
+        std::lock_guard lock(mutex_);
+        if (working_ || pending_job_.has_value() || continue_request_.has_value() ||
+            view_.pending || measurer_hungry_)
+            return true;
+    }
+    std::lock_guard lock(measure_mutex_);
+    return measuring_ || frame_task_.has_value() || !iteration_tasks_.empty();
+}
+
+void Worker::queue_frame_measure(MeasureTask task) {
+    std::lock_guard lock(measure_mutex_);
+    frame_task_ = std::move(task);
+    measure_wake_.notify_one();
+}
+
+void Worker::queue_iteration_measure(MeasureTask task) {
+    std::lock_guard lock(measure_mutex_);
+    iteration_tasks_.push_back(std::move(task));
+    measure_wake_.notify_one();
+}
+
+void Worker::measure_loop(std::stop_token thread_stop) {
+    std::unique_lock lock(measure_mutex_);
+    while (!thread_stop.stop_requested()) {
+        const auto frame_due = [this] {
+            return frame_task_ && Clock::now() >= frame_task_->not_before;
+        };
+        if (frame_task_ && iteration_tasks_.empty() && !frame_due()) {
+            const Clock::time_point due = frame_task_->not_before;
+            measure_wake_.wait_until(lock, thread_stop, due,
+                                     [&] { return frame_due() || !iteration_tasks_.empty(); });
+        } else {
+            measure_wake_.wait(lock, thread_stop, [this] {
+                return frame_task_.has_value() || !iteration_tasks_.empty();
+            });
+        }
+        if (thread_stop.stop_requested()) break;
+        MeasureTask task;
+        if (frame_due()) {
+            task = std::move(*frame_task_);
+            frame_task_.reset();
+        } else if (iteration_tasks_.empty()) {
+            continue; // a frame that is not due yet (it was replaced, or the wait timed out)
+        } else {
+            task = std::move(iteration_tasks_.front());
+            iteration_tasks_.pop_front();
+            std::lock_guard worker_lock(mutex_); // order: measure_mutex_, then mutex_
+            measurer_hungry_ = true;
+            wake_.notify_one();
+        }
+        if (task.stop.stop_requested()) continue; // a newer job took over
+        measuring_ = true;
+        lock.unlock();
+        std::optional<Payload> result;
+        try {
+            result = task.run();
+        } catch (const Cancelled&) {
+        } catch (const std::exception& e) {
+            result = FailedMessage{e.what()};
+        }
+        lock.lock();
+        // Posted under measure_mutex_: once the message can be drained, busy() sees the end.
+        if (result && !task.stop.stop_requested()) post(task.generation, std::move(*result));
+        measuring_ = false;
+    }
 }
 
 void Worker::post(std::uint64_t generation, Payload payload) {
@@ -166,7 +285,8 @@ void Worker::run(std::stop_token thread_stop) {
     std::unique_lock lock(mutex_);
     while (!thread_stop.stop_requested()) {
         wake_.wait(lock, thread_stop, [this] {
-            return pending_job_.has_value() || continue_request_.has_value() || view_.pending;
+            return pending_job_.has_value() || continue_request_.has_value() || view_.pending ||
+                   measurer_hungry_;
         });
         if (thread_stop.stop_requested()) break;
         working_ = true;
@@ -202,6 +322,17 @@ void Worker::run(std::stop_token thread_stop) {
                 }
             }
             lock.lock();
+        } else if (measurer_hungry_) {
+            measurer_hungry_ = false;
+            const bool current = job_ && job_->history;
+            lock.unlock();
+            if (current) {
+                try {
+                    feed_measurer(*job_);
+                } catch (const Cancelled&) {
+                }
+            }
+            lock.lock();
         }
         working_ = false;
     }
@@ -216,6 +347,7 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
     job_ = std::make_unique<Job>();
     Job& job = *job_;
     job.generation = generation;
+    job.stop = stop;
     try {
         // Open the input, unless it is the one already in memory.
         set_stage(generation, Stage::Load);
@@ -254,7 +386,8 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
             cached_mc_.reset();
             cached_mc_ =
                 display_mesh(run_method(Method::MarchingCubes, volume, mask, job.options,
-                                        job.reference, stage_progress(Stage::MarchingCubes, stop)));
+                                        job.reference, stage_progress(Stage::MarchingCubes, stop)),
+                             ++next_geometry_);
             cached_mc_iso_ = iso;
             cached_mc_inside_ = job.options.inside;
         }
@@ -294,12 +427,16 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
         const bool converged = net.metrics.converged;
         // The final mesh's distance to MC's surface, as the CLI's table reports it.
         net.metrics.to_marching_cubes = distance_to_mesh(net.mesh, cached_mc_->mesh, volume);
-        job.final_frame = display_mesh(std::move(net), job.history->latest_iteration());
+        auto final_frame = std::const_pointer_cast<DisplayMesh>(
+            display_mesh(std::move(net), ++next_geometry_, job.history->latest_iteration()));
+        final_frame->last = true;
+        if (!job.preview)
+            job.preview = std::make_shared<const PreviewMesh>(make_preview(final_frame->mesh));
+        final_frame->preview = job.preview; // one per job: the views keep it
+        job.final_frame = final_frame;
         serve_view(job, stop, true);
         set_stage(generation, Stage::Done);
-        ++jobs_finished_;
-        post(generation,
-             FinishedMessage{job.history->latest_iteration(), converged, ms_since(job.start)});
+        finish(job, 0, converged);
     } catch (const Cancelled&) {
         // A newer request (or shutdown) took over; it resets the progress itself.
     } catch (const std::exception& e) {
@@ -332,8 +469,7 @@ void Worker::relax_further(std::uint64_t generation, int extra, std::stop_token 
         const bool converged = relaxed.converged;
         serve_view(job, stop, true);
         set_stage(generation, Stage::Done);
-        post(generation,
-             FinishedMessage{job.history->latest_iteration(), converged, ms_since(job.start)});
+        finish(job, first + 1, converged);
     } catch (const Cancelled&) {
     } catch (const std::exception& e) {
         set_stage(generation, Stage::Failed);
@@ -341,32 +477,62 @@ void Worker::relax_further(std::uint64_t generation, int extra, std::stop_token 
     }
 }
 
+// The relaxation does not wait for the convergence numbers: the iteration is announced at once
+// (the slider grows, the frame follows) and measured by the measurer once the job is done.
 void Worker::after_iteration(Job& job, std::span<const glm::vec3> positions, float max_move,
                              std::stop_token stop) {
     throw_if_stopped(stop);
     if (!positions.empty()) job.history->append(positions);
     const int k = job.history->latest_iteration();
-    const RelaxContext& c = *job.context;
-
-    // The convergence numbers: measure()'s, restricted to what the plots show.
-    const Mesh index_mesh =
-        triangulate(*c.net, job.history->latest(), c.options.triangulation, c.volume->spacing);
-    MeasureOptions what = job.options.measure;
-    what.convergence_only = true;
-    const MethodMetrics m = measure(index_mesh, *c.volume, job.reference, what);
+    job.max_moves.resize(std::size_t(k) + 1);
+    job.max_moves[std::size_t(k)] = max_move;
     IterationStats stats;
     stats.iteration = k;
     stats.max_move = max_move;
-    stats.quality_mean = m.quality.mean;
-    stats.quality_min = m.quality.min;
-    stats.smoothness = m.smoothness;
-    if (m.accuracy) {
-        stats.accuracy_vertices = m.accuracy->vertices_mean;
-        stats.accuracy_faces = m.accuracy->faces_mean;
-    }
     post(job.generation, IterationMessage{stats});
     progress_.iteration.store(k);
     serve_view(job, stop, false);
+}
+
+// Measures iterations [from, latest] on the measurer, then posts the end of the job: the
+// FinishedMessage comes last, once every number of the job is in.
+void Worker::finish(Job& job, int from, bool converged) {
+    job.next_to_measure = from;
+    job.finished = FinishedMessage{job.history->latest_iteration(), converged, 0.0};
+    feed_measurer(job);
+}
+
+// Hands the measurer the next iterations, a few at a time (each holds a copy of the positions;
+// a large net's whole history would not fit twice). The measurer asks for more when it takes one.
+void Worker::feed_measurer(Job& job) {
+    constexpr std::size_t kQueued = 2;
+    const int latest = job.history->latest_iteration();
+    while (job.next_to_measure <= latest) {
+        {
+            std::lock_guard lock(measure_mutex_);
+            if (iteration_tasks_.size() >= kQueued) return;
+        }
+        const int k = job.next_to_measure++;
+        auto positions =
+            std::make_shared<const std::vector<glm::vec3>>(job.history->positions(k, job.stop));
+        queue_iteration_measure(
+            {job.stop, job.generation,
+             [context = job.context, reference = job.reference, what = job.options.measure, k,
+              max_move = job.max_moves[std::size_t(k)], positions]() -> std::optional<Payload> {
+                 return IterationMessage{
+                     measure_iteration(*context, reference, what, k, max_move, *positions)};
+             }});
+    }
+    if (!job.finished) return;
+    queue_iteration_measure(
+        {job.stop, job.generation,
+         [this, finished = *job.finished, start = job.start]() -> std::optional<Payload> {
+             ++jobs_finished_;
+             FinishedMessage f = finished;
+             f.ms = ms_since(start);
+             return f;
+         }});
+    job.finished.reset();
 }
 
 void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
@@ -382,8 +548,9 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
     int target = -1;
     if (view.iteration == kLive) {
         // Following the relaxation: the newest iteration, once the UI took the last frame.
+        // The last frame goes out measured even when its quick version went before.
         const bool due = view.pending || final_frame || !undrained;
-        if (due && job.frame_sent != latest)
+        if (final_frame || (due && job.frame_sent != latest))
             target = latest;
         else if (view.pending)
             target = latest;
@@ -393,8 +560,25 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
     if (target >= 0) {
         const bool recomputed = !job.history->stored(target);
         const std::vector<glm::vec3> positions = job.history->positions(target, stop);
-        post(job.generation, FrameMessage{make_frame(job, target, positions), recomputed});
+        const auto frame = make_frame(job, target, positions);
+        post(job.generation, FrameMessage{frame, recomputed});
         job.frame_sent = target;
+        // Frames passing by while following the relaxation are not measured; one asked for is,
+        // once the user stays on it a moment (stepping quickly measures nothing in between).
+        if (!frame->metrics_complete && (view.iteration != kLive || final_frame))
+            queue_frame_measure(
+                {stop, job.generation,
+                 [context = job.context, reference = job.reference, what = job.options.measure,
+                  frame, positions]() -> std::optional<Payload> {
+                     const RelaxContext& c = *context;
+                     const Mesh index_mesh =
+                         triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+                     auto measured = std::make_shared<DisplayMesh>(*frame);
+                     measured->metrics = measure(index_mesh, *c.volume, reference, what);
+                     measured->metrics_complete = true;
+                     return FrameMetricsMessage{measured};
+                 },
+                 Clock::now() + (final_frame ? Clock::duration::zero() : kDwell)});
     }
     if (view.pending) {
         std::lock_guard lock(mutex_);
@@ -403,8 +587,9 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
     }
 }
 
-std::shared_ptr<const DisplayMesh> Worker::make_frame(const Job& job, int iteration,
-                                                      std::span<const glm::vec3> positions) const {
+// A quick frame: the mesh, its triangles' quality and normals; measured later on request.
+std::shared_ptr<const DisplayMesh> Worker::make_frame(Job& job, int iteration,
+                                                      std::span<const glm::vec3> positions) {
     if (job.final_frame && job.final_frame->iteration == iteration) return job.final_frame;
     const RelaxContext& c = *job.context;
     const Mesh index_mesh =
@@ -412,9 +597,15 @@ std::shared_ptr<const DisplayMesh> Worker::make_frame(const Job& job, int iterat
     auto frame = std::make_shared<DisplayMesh>();
     frame->method = method_of(job.options.relax.mode);
     frame->iteration = iteration;
-    frame->metrics = measure(index_mesh, *c.volume, job.reference, job.options.measure);
     frame->mesh = mesh_to_world(index_mesh, *c.volume);
     frame->quality = triangle_quality(frame->mesh);
+    frame->normals = render::vertex_normals(frame->mesh);
+    frame->metrics = quick_metrics(frame->mesh, frame->quality);
+    frame->metrics_complete = false;
+    frame->geometry = ++next_geometry_;
+    // The net's topology is the job's: one preview serves every iteration.
+    if (!job.preview) job.preview = std::make_shared<const PreviewMesh>(make_preview(frame->mesh));
+    frame->preview = job.preview;
     return frame;
 }
 

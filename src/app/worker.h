@@ -10,8 +10,14 @@
 //  - Results come back as Messages in an outbox the UI drains once per frame with drain();
 //    every message carries the generation of the job that made it, so the UI drops stale ones.
 //    drain() only swaps a vector under a mutex: it never waits for a computation.
-//  - The relaxation publishes every iteration: an IterationMessage (the convergence numbers),
-//    and the positions go into the worker's IterationHistory under the memory budget.
+//  - The relaxation publishes every iteration at once: an IterationMessage (iteration and
+//    largest move), and the positions go into the worker's IterationHistory under the memory
+//    budget. Its convergence numbers follow once the relaxation is done (a second
+//    IterationMessage, measured), so measuring never slows the relaxation down.
+//  - A second thread, the measurer, does the measuring (seconds on a large mesh) while the
+//    worker keeps serving frames: the iterations' numbers, then the FinishedMessage (last of a
+//    job), and the full metrics of a frame the user stays on for a moment
+//    (FrameMetricsMessage; frames are posted quick first: mesh, quality, normals, counts).
 //  - Meshes of the relaxed net (FrameMessage) are made on request: show_iteration(k) asks for
 //    iteration k (recomputed from a keyframe when it is no longer stored), show_iteration(kLive)
 //    follows the newest iteration. While following, a new frame is made only once the UI has
@@ -25,7 +31,7 @@
 // with io/source.h's open_source; Marching Cubes is run_method's (on the label's mask at 0.5
 // when the input has one); the net is run_surface_net's, observed (NetObserver), so every
 // iteration reaches the history; "run to convergence" continues with relax() from the newest
-// positions; every frame and convergence number is measure()'s.
+// positions; every frame's metrics and convergence number is measure()'s.
 //
 // Caches: the last opened input is kept while its SourceSpec stays equal, so changing a
 // parameter does not reload the file; the last Marching Cubes result is kept while input, iso
@@ -34,8 +40,11 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -48,6 +57,7 @@
 #include "core/pipeline.h"
 #include "io/source.h"
 #include "iteration_history.h"
+#include "preview_mesh.h"
 
 namespace snert::app {
 
@@ -71,13 +81,20 @@ struct JobProgress {
     std::atomic<int> max_iterations{0};
 };
 
-// A mesh ready to draw, with its numbers. World units; quality per triangle for colouring.
+// A mesh ready to draw, with its numbers. World units; quality per triangle for colouring and
+// smooth normals per vertex, both made on the worker so the UI thread only uploads them.
 struct DisplayMesh {
     Method method = Method::MarchingCubes;
     int iteration = -1; // relaxation iteration; -1 for Marching Cubes
     Mesh mesh;
-    std::vector<float> quality; // smallest / largest angle per triangle
-    MethodMetrics metrics;
+    std::vector<float> quality;     // smallest / largest angle per triangle
+    std::vector<glm::vec3> normals; // area-weighted, per vertex
+    MethodMetrics metrics;          // counts and quality only while !metrics_complete
+    bool metrics_complete = true;   // false: a quick frame; the measured one follows
+    bool last = false;              // the relaxation's last iteration (the pipeline's mesh)
+    // Drawn while the camera moves (large meshes only); shared by the frames of one job.
+    std::shared_ptr<const PreviewMesh> preview;
+    std::uint64_t geometry = 0; // equal for two DisplayMeshes with the same mesh
 };
 
 struct VolumeMessage {
@@ -93,6 +110,8 @@ struct NetMessage {
     int max_iterations = 0;
     double ms = 0; // building the net and the gradient field
 };
+// Posted twice per iteration: when it is done (iteration and max_move only), and once the
+// relaxation has finished, measured (stats.measured), oldest first.
 struct IterationMessage {
     IterationStats stats; // iteration 0 is the initial net
 };
@@ -108,9 +127,14 @@ struct FinishedMessage {
 struct FailedMessage {
     std::string error; // one line, names the input
 };
+// The measured version of a quick frame (same geometry): replaces the frame shown only while
+// it is still that one.
+struct FrameMetricsMessage {
+    std::shared_ptr<const DisplayMesh> mesh;
+};
 
 using Payload = std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage,
-                             FrameMessage, FinishedMessage, FailedMessage>;
+                             FrameMessage, FinishedMessage, FailedMessage, FrameMetricsMessage>;
 struct Message {
     std::uint64_t generation = 0;
     Payload payload;
@@ -165,8 +189,23 @@ class Worker {
     void after_iteration(Job& job, std::span<const glm::vec3> positions, float max_move,
                          std::stop_token stop);
     void serve_view(Job& job, std::stop_token stop, bool final_frame);
-    std::shared_ptr<const DisplayMesh> make_frame(const Job& job, int iteration,
-                                                  std::span<const glm::vec3> positions) const;
+    void finish(Job& job, int from, bool converged);
+    void feed_measurer(Job& job);
+    std::shared_ptr<const DisplayMesh> make_frame(Job& job, int iteration,
+                                                  std::span<const glm::vec3> positions);
+    std::shared_ptr<const DisplayMesh> measured_frame(const Job& job,
+                                                      const DisplayMesh& quick) const;
+    // The measurer: a second thread that measures frames and iterations (seconds on a large
+    // mesh), so the worker keeps serving views meanwhile. A task returns what to post.
+    struct MeasureTask {
+        std::stop_token stop; // the job's: a cancelled job's tasks are dropped
+        std::uint64_t generation = 0;
+        std::function<std::optional<Payload>()> run;
+        std::chrono::steady_clock::time_point not_before{}; // frames: once the user dwells
+    };
+    void queue_frame_measure(MeasureTask task);     // latest wins
+    void queue_iteration_measure(MeasureTask task); // in order, after frames
+    void measure_loop(std::stop_token thread_stop);
     void post(std::uint64_t generation, Payload payload);
     void set_stage(std::uint64_t generation, Stage stage);
     Progress stage_progress(Stage stage, std::stop_token stop);
@@ -187,6 +226,7 @@ class Worker {
     std::vector<Message> outbox_;
     bool frame_undrained_ = false;
     bool working_ = false;
+    bool measurer_hungry_ = false; // it took an iteration: feed it the next ones
 
     // Owned by the worker thread only.
     std::unique_ptr<Job> job_;
@@ -195,7 +235,17 @@ class Worker {
     float cached_mc_iso_ = 0.0f;
     InsideIs cached_mc_inside_ = InsideIs::Above;
 
-    std::jthread thread_; // last: started after everything above exists, joined first
+    std::uint64_t next_geometry_ = 0; // worker thread only
+
+    // The measurer's queue, under measure_mutex_ (never taken while holding mutex_).
+    mutable std::mutex measure_mutex_;
+    std::condition_variable_any measure_wake_;
+    std::optional<MeasureTask> frame_task_;
+    std::deque<MeasureTask> iteration_tasks_;
+    bool measuring_ = false;
+
+    std::jthread thread_;   // started after everything above exists, joined first
+    std::jthread measurer_; // last: destroyed (joined) before everything it uses
 };
 
 } // namespace snert::app

@@ -44,6 +44,7 @@ struct GuiArgs {
     std::string window, screenshot;
     int frames = 10;
     bool no_settings = false;
+    bool stats = false;
     CLI::App* command = nullptr;
 };
 
@@ -107,7 +108,7 @@ app::WindowOptions window_options(const GuiArgs& args) {
     }
     options.app.iso = choice.iso;
     options.app.inside = choice.inside;
-    const bool use_settings = !args.no_settings && args.screenshot.empty();
+    const bool use_settings = !args.no_settings && args.screenshot.empty() && !args.stats;
     if (use_settings) options.app.settings_path = app::default_settings_path();
     options.save_settings = use_settings;
     if (pipeline_given(args)) {
@@ -127,6 +128,7 @@ app::WindowOptions window_options(const GuiArgs& args) {
     }
     options.screenshot_path = args.screenshot;
     options.frames = args.frames;
+    options.stats = args.stats;
     return options;
 }
 
@@ -165,6 +167,12 @@ Runner add_gui(CLI::App& app) {
         ->check(CLI::Range(1, 100000))
         ->type_name("N")
         ->capture_default_str()
+        ->group(group);
+    command
+        ->add_flag("--stats", args->stats,
+                   "automation: run a scripted session (wait for the comparison, step back and "
+                   "forth, turn the camera), print its timings as a table and JSON, and exit "
+                   "(implies --no-settings)")
         ->group(group);
     return [args] {
         if (!args->screenshot.empty()) check_output(args->screenshot, {".png"});

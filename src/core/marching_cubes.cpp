@@ -23,11 +23,17 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "bit_planes.h"
+#include "huge_pages.h"
 #include "input_error.h"
+#include "parallel.h"
+#include "scratch_pool.h"
+#include "step_progress.h"
 
 namespace snert {
 
@@ -279,79 +285,13 @@ const MarchingCubesCase& marching_cubes_case(unsigned inside_mask) {
 
 namespace {
 
+using detail::BitVolume;
+using detail::for_each_bit;
+using detail::kWordBits;
+using detail::Word;
+
 // ---------------------------------------------------------------------------------------------
-// (2) Bit planes. One bit per sample, rows of whole 64-bit words (padding bits are 0): a whole
-// row of 64 cells is classified with a few word operations, so the empty bulk of a volume costs
-// almost nothing and only cells the surface passes through are visited one by one.
-
-using Word = std::uint64_t;
-constexpr int kWordBits = 64;
-
-class SampleBits {
-  public:
-    SampleBits() = default;
-    SampleBits(glm::ivec3 dims, int words_per_row)
-        : words_per_row_(words_per_row), rows_per_plane_(dims.y),
-          words_(std::size_t(words_per_row) * std::size_t(dims.y) * std::size_t(dims.z), 0) {}
-    Word* row(int y, int z) { return words_.data() + offset(y, z); }
-    const Word* row(int y, int z) const { return words_.data() + offset(y, z); }
-
-  private:
-    std::size_t offset(int y, int z) const {
-        return (std::size_t(z) * std::size_t(rows_per_plane_) + std::size_t(y)) *
-               std::size_t(words_per_row_);
-    }
-    int words_per_row_ = 0;
-    int rows_per_plane_ = 0;
-    std::vector<Word> words_;
-};
-
-// Bit x of the result is bit x + 1 of the row.
-inline Word bits_above(const Word* row, int w, int words) {
-    return (row[w] >> 1) | (w + 1 < words ? row[w + 1] << (kWordBits - 1) : Word(0));
-}
-// Bits x < count within word w.
-inline Word bits_before(int count, int w) {
-    const int first = w * kWordBits;
-    if (count >= first + kWordBits) return ~Word(0);
-    if (count <= first) return 0;
-    return (Word(1) << (count - first)) - 1;
-}
-// 64 bytes of 0 or 1 -> one bit each. Eight at a time: the multiplication moves the low bit of
-// byte k to bit 56 + k without carries into the top byte.
-inline Word pack_bytes(const std::uint8_t* bytes) {
-    Word bits = 0;
-    for (int k = 0; k < 8; ++k) {
-        Word eight = 0; // byte j at bits 8j; compilers turn this into one load
-        for (int j = 0; j < 8; ++j) eight |= Word(bytes[8 * k + j]) << (8 * j);
-        bits |= ((eight * 0x0102040810204080ull) >> 56) << (8 * k);
-    }
-    return bits;
-}
-
-// Bits x and x + 1 of a row as a 2-bit number (x + 1 must be a sample).
-inline unsigned bit_pair(const Word* row, int x) {
-    const int w = x / kWordBits, b = x % kWordBits;
-    Word v = row[w] >> b;
-    if (b == kWordBits - 1) v |= row[w + 1] << 1;
-    return unsigned(v & 3u);
-}
-template <class F> inline void for_each_bit(Word bits, int w, F&& f) {
-    while (bits != 0) {
-        f(w * kWordBits + std::countr_zero(bits));
-        bits &= bits - 1;
-    }
-}
-
-// The 8-bit corner mask of cell x from the four sample rows around its row of cells:
-// (y, z), (y + 1, z), (y, z + 1), (y + 1, z + 1) give corners 0-1, 2-3, 4-5, 6-7.
-struct CellRows {
-    const Word* r[4];
-    unsigned mask(int x) const {
-        return bit_pair(r[0], x) | bit_pair(r[1], x) << 2 | bit_pair(r[2], x) << 4 |
-               bit_pair(r[3], x) << 6;
-    }
-};
+// (2) The placement of crossings (the bit planes of the classification: bit_planes.h).
 
 // Where a crossing lies on its edge: linear interpolation between samples a (t = 0) and b
 // (t = 1), with t kept in [margin, 1 - margin]. A sample exactly at iso counts as inside, as if
@@ -387,23 +327,67 @@ inline double crossing_margin(glm::ivec3 dims) {
 // Vertex ownership: plane z owns the crossings on its x and y edges and the crossings on the z
 // edges up to plane z + 1. Its ids form one block: x/y crossings row by row, then z crossings
 // row by row. Slab z (the cells between planes z and z + 1) owns a block of triangles. Both
-// blocks are sized in the count pass, so the fill pass writes disjoint ranges and could run
-// slabs in parallel.
+// blocks are sized in the count pass, so the fill pass writes disjoint ranges: every pass runs
+// over fixed chunks of planes or slabs (parallel.h), and the output does not depend on how many
+// threads run them.
+
+// Planes or slabs per chunk: enough work per chunk to amortise the start of a chunk of the fill
+// pass (one plane's ids recomputed), small enough for two or more threads to balance.
+constexpr std::size_t kSlabsPerChunk = 8;
+
+// Rows ahead that prefetch_crossings works: about a memory latency of work.
+constexpr int kPrefetchRows = 4;
+
+// A prefetch that the compiler keeps: GCC deletes a loop whose only effect is
+// __builtin_prefetch (C++ lets it assume such a loop does nothing).
+inline void prefetch(const float* p) {
+#if defined(__GNUC__) && defined(__x86_64__)
+    __asm__ volatile("prefetcht0 %0" : : "m"(*p));
+#elif defined(__GNUC__)
+    __builtin_prefetch(p);
+#else
+    (void)p;
+#endif
+}
 
 class Extractor {
   public:
     Extractor(const Volume& volume, const MarchingCubesOptions& options, const Progress& progress)
         : volume_(volume), iso_(options.iso), above_(options.inside == InsideIs::Above),
           progress_(progress), dims_(volume.dims),
-          words_((volume.dims.x + kWordBits - 1) / kWordBits), margin_(crossing_margin(dims_)) {}
+          words_((volume.dims.x + kWordBits - 1) / kWordBits), margin_(crossing_margin(dims_)),
+          // Steps: planes classified, planes counted, slabs filled.
+          steps_(progress, 3 * std::size_t(dims_.z) - 1) {}
 
     Mesh run() {
-        classify(); // progress 0 .. 0.35
-        count();    // 0.35 .. 0.4
+        const std::size_t planes = std::size_t(dims_.z), slabs = planes - 1;
+        inside_ = BitVolume(dims_);
+        for_each_chunk(planes, kSlabsPerChunk,
+                       [&](std::size_t, std::size_t first, std::size_t end) {
+                           for (std::size_t z = first; z < end; ++z) classify_plane(int(z));
+                       });
+        plane_count_.assign(planes, PlaneCount{});
+        std::vector<std::size_t> slab_triangles(slabs, 0);
+        for_each_chunk(planes, kSlabsPerChunk,
+                       [&](std::size_t, std::size_t first, std::size_t end) {
+                           for (std::size_t z = first; z < end; ++z) {
+                               steps_.step();
+                               plane_count_[z] = count_plane_vertices(int(z));
+                               if (z < slabs) slab_triangles[z] = count_slab_triangles(int(z));
+                           }
+                       });
+        set_offsets(slab_triangles);
         Mesh mesh;
-        mesh.positions.resize(vertex_offset_.back());
-        mesh.indices.resize(3 * triangle_offset_.back());
-        fill_slabs(0, dims_.z - 1, mesh); // 0.4 .. 1
+        // The two arrays are zeroed on two threads: a serial part of the run, at up to 60 MB.
+        for_each_chunk(2, 1, [&](std::size_t array, std::size_t, std::size_t) {
+            if (array == 0)
+                detail::resize_on_huge_pages(mesh.positions, vertex_offset_.back());
+            else
+                detail::resize_on_huge_pages(mesh.indices, 3 * triangle_offset_.back());
+        });
+        for_each_chunk(slabs, kSlabsPerChunk, [&](std::size_t, std::size_t first, std::size_t end) {
+            fill_slabs(int(first), int(end), mesh);
+        });
         progress_.update(1.0f);
         return mesh;
     }
@@ -412,141 +396,98 @@ class Extractor {
     struct PlaneCount {
         std::size_t xy = 0, z = 0;
     };
+    // Vertex ids per sample of a plane, valid only where the edge is crossed (never read
+    // elsewhere, so left uninitialised).
     struct PlaneIds {
-        std::vector<std::uint32_t> x, y; // per sample of the plane, valid where crossed
+        explicit PlaneIds(std::size_t size)
+            : x(std::make_unique_for_overwrite<std::uint32_t[]>(size)),
+              y(std::make_unique_for_overwrite<std::uint32_t[]>(size)) {}
+        std::unique_ptr<std::uint32_t[]> x, y;
+    };
+    // The ids a range of slabs works with: planes z and z + 1, and the z edges between them.
+    struct FillIds {
+        explicit FillIds(std::size_t plane_size)
+            : lower(plane_size), upper(plane_size),
+              z(std::make_unique_for_overwrite<std::uint32_t[]>(plane_size)) {}
+        PlaneIds lower, upper;
+        std::unique_ptr<std::uint32_t[]> z;
     };
     // The crossed edges at sample row (y, z), one word at a time.
     struct RowEdges {
         Word x = 0, y = 0, z = 0;
     };
 
-    void report(float begin, float end, int step, int steps) const {
-        progress_.update(begin + (end - begin) * float(step) / float(std::max(steps, 1)));
-    }
-
-    // Pass 0: the inside bit of every sample.
-    void classify() {
-        inside_ = SampleBits(dims_, words_);
-        for (int z = 0; z < dims_.z; ++z) {
-            report(0.0f, 0.35f, z, dims_.z);
-            for (int y = 0; y < dims_.y; ++y) {
-                const float* samples = volume_.samples.data() + volume_.index(0, y, z);
-                if (above_)
-                    classify_row<true>(samples, inside_.row(y, z));
-                else
-                    classify_row<false>(samples, inside_.row(y, z));
-            }
-        }
-    }
-
-    template <bool kAbove> void classify_row(const float* samples, Word* inside) const {
-        // Comparisons into bytes first (this loop vectorises), then bytes into bits. NaN
-        // compares false: outside.
-        alignas(64) std::uint8_t in[kWordBits];
-        for (int w = 0; w < words_; ++w) {
-            const int first = w * kWordBits, n = std::min(kWordBits, dims_.x - first);
-            const float* v = samples + first;
-            if (n == kWordBits) {
-                for (int i = 0; i < kWordBits; ++i) in[i] = kAbove ? v[i] >= iso_ : v[i] <= iso_;
-            } else {
-                for (int i = 0; i < kWordBits; ++i)
-                    in[i] = i < n && (kAbove ? v[i] >= iso_ : v[i] <= iso_);
-            }
-            inside[w] = pack_bytes(in);
+    // Pass 0: the inside bit of every sample of plane z. NaN compares false: outside.
+    void classify_plane(int z) {
+        steps_.step();
+        for (int y = 0; y < dims_.y; ++y) {
+            const float* v = volume_.samples.data() + volume_.index(0, y, z);
+            if (above_)
+                inside_.set_row(y, z, [&](int x) { return v[x] >= iso_; });
+            else
+                inside_.set_row(y, z, [&](int x) { return v[x] <= iso_; });
         }
     }
 
     RowEdges row_edges(int y, int z, int w) const {
         RowEdges e;
         const Word* in = inside_.row(y, z);
-        e.x = (in[w] ^ bits_above(in, w, words_)) & bits_before(dims_.x - 1, w);
+        e.x = (in[w] ^ detail::bits_above(in, w, words_)) & detail::bits_before(dims_.x - 1, w);
         if (y + 1 < dims_.y) e.y = in[w] ^ inside_.row(y + 1, z)[w];
         if (z + 1 < dims_.z) e.z = in[w] ^ inside_.row(y, z + 1)[w];
         return e;
     }
 
-    // Cells of row (y, slab z) that the surface passes through (corners not all equal).
-    Word active_cells(const CellRows& rows, int w) const {
-        const auto any = [&](int i) {
-            return rows.r[0][i] | rows.r[1][i] | rows.r[2][i] | rows.r[3][i];
-        };
-        const auto all = [&](int i) {
-            return rows.r[0][i] & rows.r[1][i] & rows.r[2][i] & rows.r[3][i];
-        };
-        const bool more = w + 1 < words_;
-        const Word any_w = any(w), all_w = all(w);
-        const Word any_pair = any_w | (any_w >> 1) | (more ? any(w + 1) << (kWordBits - 1) : 0);
-        const Word all_pair = all_w & ((all_w >> 1) | (more ? all(w + 1) << (kWordBits - 1) : 0));
-        return any_pair & ~all_pair & bits_before(dims_.x - 1, w);
-    }
-
-    CellRows inside_rows(int y, int z) const {
-        return {{inside_.row(y, z), inside_.row(y + 1, z), inside_.row(y, z + 1),
-                 inside_.row(y + 1, z + 1)}};
-    }
-
-    // Pass 1: triangles per slab, then vertices per plane, then prefix sums.
-    void count() {
+    // Pass 1: triangles of slab z, crossings owned by plane z; then prefix sums.
+    std::size_t count_slab_triangles(int z) const {
         const detail::MarchingCubesCase* cases = &detail::marching_cubes_case(0);
-        const int slabs = dims_.z - 1;
-        std::vector<std::size_t> slab_triangles(std::size_t(slabs), 0);
-        for (int z = 0; z < slabs; ++z) {
-            report(0.35f, 0.39f, z, slabs);
-            std::size_t triangles = 0;
-            for (int y = 0; y + 1 < dims_.y; ++y) {
-                const CellRows rows = inside_rows(y, z);
-                for (int w = 0; w < words_; ++w)
-                    for_each_bit(active_cells(rows, w), w,
-                                 [&](int x) { triangles += cases[rows.mask(x)].triangle_count; });
+        std::size_t triangles = 0;
+        for (int y = 0; y + 1 < dims_.y; ++y)
+            inside_.for_each_surface_cell(
+                y, z, [&](int, unsigned mask) { triangles += cases[mask].triangle_count; });
+        return triangles;
+    }
+
+    PlaneCount count_plane_vertices(int z) const {
+        PlaneCount c;
+        for (int y = 0; y < dims_.y; ++y)
+            for (int w = 0; w < words_; ++w) {
+                const RowEdges e = row_edges(y, z, w);
+                if ((e.x | e.y | e.z) == 0) continue; // most words: no popcount call
+                c.xy += std::size_t(std::popcount(e.x) + std::popcount(e.y));
+                c.z += std::size_t(std::popcount(e.z));
             }
-            slab_triangles[std::size_t(z)] = triangles;
-        }
+        return c;
+    }
 
-        plane_count_.assign(std::size_t(dims_.z), PlaneCount{});
-        for (int z = 0; z < dims_.z; ++z) {
-            report(0.39f, 0.4f, z, dims_.z);
-            PlaneCount& c = plane_count_[std::size_t(z)];
-            for (int y = 0; y < dims_.y; ++y)
-                for (int w = 0; w < words_; ++w) {
-                    const RowEdges e = row_edges(y, z, w);
-                    c.xy += std::size_t(std::popcount(e.x) + std::popcount(e.y));
-                    c.z += std::size_t(std::popcount(e.z));
-                }
-        }
-
-        vertex_offset_.assign(std::size_t(dims_.z) + 1, 0);
-        for (int z = 0; z < dims_.z; ++z) {
-            const PlaneCount& c = plane_count_[std::size_t(z)];
-            vertex_offset_[std::size_t(z) + 1] = vertex_offset_[std::size_t(z)] + c.xy + c.z;
-        }
+    void set_offsets(const std::vector<std::size_t>& slab_triangles) {
+        vertex_offset_.assign(plane_count_.size() + 1, 0);
+        for (std::size_t z = 0; z < plane_count_.size(); ++z)
+            vertex_offset_[z + 1] = vertex_offset_[z] + plane_count_[z].xy + plane_count_[z].z;
         if (vertex_offset_.back() > std::numeric_limits<std::uint32_t>::max())
             throw InputError("marching cubes: the mesh would have " +
                              std::to_string(vertex_offset_.back()) +
                              " vertices, more than 32-bit indices can address");
-        triangle_offset_.assign(std::size_t(slabs) + 1, 0);
-        for (int z = 0; z < slabs; ++z)
-            triangle_offset_[std::size_t(z) + 1] =
-                triangle_offset_[std::size_t(z)] + slab_triangles[std::size_t(z)];
+        triangle_offset_.assign(slab_triangles.size() + 1, 0);
+        for (std::size_t z = 0; z < slab_triangles.size(); ++z)
+            triangle_offset_[z + 1] = triangle_offset_[z] + slab_triangles[z];
     }
 
     // Pass 2 for slabs [first, last): vertex ids (and positions of the planes this range owns:
-    // its own planes, plus the last plane of the volume), then triangles.
+    // its own planes, plus the last plane of the volume), then triangles. The ids of plane
+    // `first` are recomputed here (without positions) when an earlier chunk owns it.
     void fill_slabs(int first, int last, Mesh& mesh) const {
-        if (first >= last) return;
-        const std::size_t plane_size = std::size_t(dims_.x) * std::size_t(dims_.y);
-        PlaneIds lower, upper;
-        for (PlaneIds* p : {&lower, &upper}) {
-            p->x.assign(plane_size, 0);
-            p->y.assign(plane_size, 0);
-        }
-        std::vector<std::uint32_t> z_ids(plane_size, 0);
-        assign_plane_ids(first, lower, &mesh);
+        const auto ids =
+            ids_pool_.take([&] { return FillIds(std::size_t(dims_.x) * std::size_t(dims_.y)); });
+        PlaneIds* lower = &ids->lower;
+        PlaneIds* upper = &ids->upper;
+        assign_plane_ids(first, *lower, &mesh);
         for (int z = first; z < last; ++z) {
-            report(0.4f, 1.0f, z - first, last - first);
+            steps_.step();
             const bool owns_next = z + 1 < last || z + 1 == dims_.z - 1;
-            assign_plane_ids(z + 1, upper, owns_next ? &mesh : nullptr);
-            assign_z_ids(z, z_ids, mesh);
-            emit_triangles(z, lower, upper, z_ids, mesh);
+            assign_plane_ids(z + 1, *upper, owns_next ? &mesh : nullptr);
+            assign_z_ids(z, ids->z.get(), mesh);
+            emit_triangles(z, *lower, *upper, ids->z.get(), mesh);
             std::swap(lower, upper);
         }
     }
@@ -555,71 +496,94 @@ class Extractor {
     // plane is owned by the caller's slab range).
     void assign_plane_ids(int z, PlaneIds& ids, Mesh* mesh) const {
         std::uint32_t next = std::uint32_t(vertex_offset_[std::size_t(z)]);
-        const auto place = [&](glm::vec3 p) {
-            if (mesh != nullptr) mesh->positions[next] = p;
-            return next++;
-        };
         const std::size_t nx = std::size_t(dims_.x);
         for (int y = 0; y < dims_.y; ++y) {
-            const std::size_t row = std::size_t(y) * nx;
+            if (mesh != nullptr) prefetch_crossings(y + kPrefetchRows, z, false);
+            std::uint32_t* x_ids = ids.x.get() + std::size_t(y) * nx;
+            std::uint32_t* y_ids = ids.y.get() + std::size_t(y) * nx;
             const float* s = volume_.samples.data() + volume_.index(0, y, z);
             const float* s_next = y + 1 < dims_.y ? s + nx : nullptr;
             for (int w = 0; w < words_; ++w) {
                 const RowEdges e = row_edges(y, z, w);
+                if (mesh == nullptr) {
+                    for_each_bit(e.x, w, [&](int x) { x_ids[x] = next++; });
+                    for_each_bit(e.y, w, [&](int x) { y_ids[x] = next++; });
+                    continue;
+                }
                 for_each_bit(e.x, w, [&](int x) {
                     const float px = crossing_coordinate(x, s[x], s[x + 1], iso_, margin_);
-                    ids.x[row + std::size_t(x)] = place(glm::vec3(px, float(y), float(z)));
+                    mesh->positions[next] = glm::vec3(px, float(y), float(z));
+                    x_ids[x] = next++;
                 });
                 for_each_bit(e.y, w, [&](int x) {
                     const float py = crossing_coordinate(y, s[x], s_next[x], iso_, margin_);
-                    ids.y[row + std::size_t(x)] = place(glm::vec3(float(x), py, float(z)));
+                    mesh->positions[next] = glm::vec3(float(x), py, float(z));
+                    y_ids[x] = next++;
                 });
             }
         }
     }
 
+    // Starts loading the samples at the crossed x and y edges of row (y, z), or at its z edges,
+    // and at the edges' other ends. Crossings are sparse, so hardware prefetchers miss them,
+    // and the volume was last read long ago (classify): without this, placing vertices waits
+    // on memory for most of its time.
+    void prefetch_crossings(int y, int z, bool z_edges) const {
+        if (y >= dims_.y) return;
+        const float* s = volume_.samples.data() + volume_.index(0, y, z);
+        const std::size_t other = z_edges ? volume_.index(0, 0, 1) : std::size_t(dims_.x);
+        for (int w = 0; w < words_; ++w) {
+            const RowEdges e = row_edges(y, z, w);
+            for_each_bit(z_edges ? e.z : e.x | e.y, w, [&](int x) {
+                prefetch(s + x);
+                prefetch(s + x + other);
+            });
+        }
+    }
+
     // Ids and positions of the z crossings between planes z and z + 1 (owned by plane z).
-    void assign_z_ids(int z, std::vector<std::uint32_t>& ids, Mesh& mesh) const {
+    void assign_z_ids(int z, std::uint32_t* ids, Mesh& mesh) const {
         std::uint32_t next =
             std::uint32_t(vertex_offset_[std::size_t(z)] + plane_count_[std::size_t(z)].xy);
         const std::size_t nx = std::size_t(dims_.x);
         for (int y = 0; y < dims_.y; ++y) {
-            const std::size_t row = std::size_t(y) * nx;
+            prefetch_crossings(y + kPrefetchRows, z, true);
+            std::uint32_t* row_ids = ids + std::size_t(y) * nx;
             const float* s = volume_.samples.data() + volume_.index(0, y, z);
             const float* s_next = volume_.samples.data() + volume_.index(0, y, z + 1);
             for (int w = 0; w < words_; ++w)
                 for_each_bit(row_edges(y, z, w).z, w, [&](int x) {
                     const float pz = crossing_coordinate(z, s[x], s_next[x], iso_, margin_);
                     mesh.positions[next] = glm::vec3(float(x), float(y), pz);
-                    ids[row + std::size_t(x)] = next++;
+                    row_ids[x] = next++;
                 });
         }
     }
 
     void emit_triangles(int z, const PlaneIds& lower, const PlaneIds& upper,
-                        const std::vector<std::uint32_t>& z_ids, Mesh& mesh) const {
+                        const std::uint32_t* z_ids, Mesh& mesh) const {
         const detail::MarchingCubesCase* cases = &detail::marching_cubes_case(0);
         std::uint32_t* out = mesh.indices.data() + 3 * triangle_offset_[std::size_t(z)];
         const std::size_t nx = std::size_t(dims_.x);
         for (int y = 0; y + 1 < dims_.y; ++y) {
-            const CellRows rows = inside_rows(y, z);
-            for (int w = 0; w < words_; ++w) {
-                for_each_bit(active_cells(rows, w), w, [&](int x) {
-                    const detail::MarchingCubesCase& entry = cases[rows.mask(x)];
-                    // Edge e of the cell -> vertex id, in the numbering of the table.
-                    const std::size_t r0 = std::size_t(y) * nx + std::size_t(x), r1 = r0 + nx;
-                    const std::uint32_t id[12] = {lower.x[r0],   lower.x[r1],     upper.x[r0],
-                                                  upper.x[r1],   lower.y[r0],     lower.y[r0 + 1],
-                                                  upper.y[r0],   upper.y[r0 + 1], z_ids[r0],
-                                                  z_ids[r0 + 1], z_ids[r1],       z_ids[r1 + 1]};
-                    for (int t = 0; t < entry.triangle_count; ++t) {
-                        out[0] = id[entry.triangles[t][0]];
-                        out[1] = id[entry.triangles[t][1]];
-                        out[2] = id[entry.triangles[t][2]];
-                        out += 3;
-                    }
-                });
-            }
+            // Edge e of cell x has its id at edge_ids[e][x], in the numbering of the table;
+            // only crossed edges are read.
+            const std::size_t r0 = std::size_t(y) * nx, r1 = r0 + nx;
+            const std::uint32_t* edge_ids[12] = {lower.x.get() + r0, lower.x.get() + r1,
+                                                 upper.x.get() + r0, upper.x.get() + r1,
+                                                 lower.y.get() + r0, lower.y.get() + r0 + 1,
+                                                 upper.y.get() + r0, upper.y.get() + r0 + 1,
+                                                 z_ids + r0,         z_ids + r0 + 1,
+                                                 z_ids + r1,         z_ids + r1 + 1};
+            inside_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
+                const detail::MarchingCubesCase& entry = cases[mask];
+                for (int t = 0; t < entry.triangle_count; ++t) {
+                    out[0] = edge_ids[entry.triangles[t][0]][x];
+                    out[1] = edge_ids[entry.triangles[t][1]][x];
+                    out[2] = edge_ids[entry.triangles[t][2]][x];
+                    out += 3;
+                }
+            });
         }
         if (out != mesh.indices.data() + 3 * triangle_offset_[std::size_t(z) + 1])
             throw std::logic_error("marching cubes: fill pass disagrees with count pass");
@@ -632,10 +596,12 @@ class Extractor {
     const glm::ivec3 dims_;
     const int words_;
     const double margin_; // see crossing_margin
-    SampleBits inside_;
+    BitVolume inside_;
     std::vector<PlaneCount> plane_count_;
     std::vector<std::size_t> vertex_offset_;   // per plane, plus the total
     std::vector<std::size_t> triangle_offset_; // per slab, plus the total
+    mutable detail::StepProgress steps_;
+    mutable detail::ScratchPool<FillIds> ids_pool_; // one FillIds per thread, not per chunk
 };
 
 } // namespace

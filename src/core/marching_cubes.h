@@ -30,11 +30,12 @@
 // it passes between samples.
 //
 // Work is organised as passes over z-slabs (classify, count per slab, prefix sum, allocate
-// exactly, fill) as in VTK's flying edges; each slab writes only its own output ranges, so the
-// output order does not depend on how slabs are scheduled. Runs serially: several hundred
-// Mvoxels/s on one core (whole rows of empty cells are skipped with word operations), so a
-// thread pool would rarely pay. Progress is reported about once per slice and pass, and
-// cancellation (Cancelled) is checked at the same points.
+// exactly, fill) as in VTK's flying edges; each slab writes only its own output ranges. The
+// passes run over fixed chunks of slabs on up to one thread per core (parallel.h; a ThreadLimit
+// caps it), and the output (vertex and triangle order, positions) is the same, bit for bit, for
+// any thread count. Whole rows of empty cells are skipped with word operations. Progress is
+// reported about once per slice and pass, one call at a time and increasing (the callback need
+// not be thread-safe), and cancellation (Cancelled) is checked at the same points.
 //
 // Throws std::invalid_argument when the sample count does not match the dimensions or the iso
 // value is NaN. Volumes thinner than 2 samples along an axis have no cells: empty mesh.

@@ -32,7 +32,7 @@ struct Segmentation {
     std::size_t count_inside() const;
 };
 
-// Thresholds the volume. NaN samples are outside.
+// Thresholds the volume (in parallel over fixed chunks: parallel.h). NaN samples are outside.
 Segmentation segment_threshold(const Volume& volume, float iso, InsideIs rule = InsideIs::Above);
 
 // Inside where the label map equals `label` (a supervised segmentation).

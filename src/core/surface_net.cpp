@@ -7,32 +7,42 @@
 //   G. M. Nielson, "Dual marching cubes", IEEE Visualization 2004 (one node per piece of the
 //   Marching Cubes case, which makes the net the dual of the MC surface).
 //
-// Passes over rows of cells, as in VTK's flying edges: classify and count nodes, prefix-sum the
-// counts into node ids, then fill nodes, links and quads. Node ids follow the cells' x-fastest
-// order (pieces of one cell in loop order), so the output does not depend on scheduling. Nodes
-// are looked up per row (binary search over x) instead of through a full cell-sized index, which
-// keeps memory proportional to the surface, not the volume.
+// Passes over slabs of cells, as in VTK's flying edges, each over fixed chunks of slabs in
+// parallel: the inside bits (bit_planes.h, shared with Marching Cubes), counts of nodes per row
+// and of link nodes per slab, their prefix sums into node ids, then one pass that fills nodes,
+// links and polygons. Node ids follow the cells' x-fastest order (pieces of one cell in loop
+// order), and each chunk's links and polygons are joined in chunk order, so the output does not
+// depend on scheduling. A chunk looks nodes up in dense planes of cells around its current slab
+// (three planes, not a volume-sized index), so memory stays proportional to the surface.
 #include "surface_net.h"
 
 #include <algorithm>
+#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
 
+#include "bit_planes.h"
+#include "huge_pages.h"
 #include "input_error.h"
 #include "marching_cubes.h"
+#include "parallel.h"
+#include "scratch_pool.h"
+#include "step_progress.h"
 
 namespace snert {
 
-namespace detail {
+namespace {
 
-int surface_piece_of_edge(unsigned inside_mask, int edge) {
-    // 256 cases x 12 edges, derived once from the Marching Cubes table.
-    static const auto table = [] {
-        std::array<std::array<std::int8_t, 12>, 256> pieces{};
+// For each case, the piece (loop) holding each crossed cube edge, -1 where not crossed: 256
+// cases x 12 edges, derived once from the Marching Cubes table.
+using PieceTable = std::array<std::array<std::int8_t, 12>, 256>;
+const PieceTable& surface_piece_table() {
+    static const PieceTable table = [] {
+        PieceTable pieces{};
         for (unsigned mask = 0; mask < 256; ++mask) {
             pieces[mask].fill(-1);
-            const MarchingCubesCase& c = marching_cubes_case(mask);
+            const detail::MarchingCubesCase& c = detail::marching_cubes_case(mask);
             int first = 0;
             for (int loop = 0; loop < c.loop_count; ++loop) {
                 for (int i = first; i < first + c.loop_size[loop]; ++i)
@@ -42,7 +52,15 @@ int surface_piece_of_edge(unsigned inside_mask, int edge) {
         }
         return pieces;
     }();
-    return table[inside_mask & 255u][std::size_t(edge)];
+    return table;
+}
+
+} // namespace
+
+namespace detail {
+
+int surface_piece_of_edge(unsigned inside_mask, int edge) {
+    return surface_piece_table()[inside_mask & 255u][std::size_t(edge)];
 }
 
 } // namespace detail
@@ -70,95 +88,6 @@ glm::vec3 edge_midpoint(int edge) {
     return m;
 }
 
-// Inside mask of cell c: bit k set when corner k (offset (k & 1, k >> 1 & 1, k >> 2 & 1)) is in.
-unsigned cell_mask(const Segmentation& s, glm::ivec3 c) {
-    unsigned mask = 0;
-    for (int k = 0; k < 8; ++k)
-        if (s.at(c.x + (k & 1), c.y + ((k >> 1) & 1), c.z + ((k >> 2) & 1))) mask |= 1u << k;
-    return mask;
-}
-
-int piece_count(unsigned mask) {
-    return detail::marching_cubes_case(mask).loop_count;
-}
-
-// Per row of voxels: 0 when all outside, 1 when all inside, 2 when mixed. A row of cells whose
-// four voxel rows are uniform and equal holds no surface cell and is skipped (the trimming idea
-// of flying edges, at row granularity).
-std::vector<std::uint8_t> classify_rows(const Segmentation& s) {
-    std::vector<std::uint8_t> rows(std::size_t(s.dims.y) * std::size_t(s.dims.z));
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-        const std::uint8_t* v = &s.inside[r * std::size_t(s.dims.x)];
-        bool any_in = false, any_out = false;
-        for (int x = 0; x < s.dims.x; ++x) (v[x] ? any_in : any_out) = true;
-        rows[r] = any_in && any_out ? 2 : any_in ? 1 : 0;
-    }
-    return rows;
-}
-
-// Visits the surface cells of cell row (y, z) in increasing x: visit(x, inside mask).
-template <class Visit>
-void for_each_surface_cell_in_row(const Segmentation& s, const std::vector<std::uint8_t>& rows,
-                                  int y, int z, Visit&& visit) {
-    const std::size_t dy = std::size_t(s.dims.y);
-    const std::size_t r00 = std::size_t(z) * dy + std::size_t(y), r10 = r00 + 1, r01 = r00 + dy,
-                      r11 = r01 + 1;
-    if (rows[r00] != 2 && rows[r00] == rows[r10] && rows[r00] == rows[r01] &&
-        rows[r00] == rows[r11])
-        return;
-    const std::size_t nx = std::size_t(s.dims.x);
-    const std::uint8_t* a = &s.inside[r00 * nx]; // corners (., 0, 0)
-    const std::uint8_t* b = &s.inside[r10 * nx]; // corners (., 1, 0)
-    const std::uint8_t* c = &s.inside[r01 * nx]; // corners (., 0, 1)
-    const std::uint8_t* d = &s.inside[r11 * nx]; // corners (., 1, 1)
-    // Four bits per column (one per row); a cell's mask is its two columns side by side.
-    const auto column = [&](int x) {
-        return unsigned(a[x] != 0) | unsigned(b[x] != 0) << 1 | unsigned(c[x] != 0) << 2 |
-               unsigned(d[x] != 0) << 3;
-    };
-    unsigned left = column(0);
-    for (int x = 0; x + 1 < s.dims.x; ++x) {
-        const unsigned right = column(x + 1);
-        if (!(left == right && (left == 0 || left == 15))) {
-            // Corner k = dx | dy << 1 | dz << 2; column bit j = dy | dz << 1.
-            unsigned mask = 0;
-            for (unsigned j = 0; j < 4; ++j) {
-                mask |= ((left >> j) & 1u) << (2 * j);
-                mask |= ((right >> j) & 1u) << (2 * j + 1);
-            }
-            visit(x, mask);
-        }
-        left = right;
-    }
-}
-
-class NodeIndex {
-  public:
-    NodeIndex(const SurfaceNet& net, std::vector<std::uint32_t> row_offsets)
-        : net_(net), row_offsets_(std::move(row_offsets)) {}
-
-    // First node id of cell c, which must be a surface cell.
-    std::uint32_t first_of(glm::ivec3 c) const {
-        const std::size_t row = std::size_t(c.z) * std::size_t(net_.cell_dims.y) + std::size_t(c.y);
-        auto first = net_.cells.begin() + row_offsets_[row];
-        auto last = net_.cells.begin() + row_offsets_[row + 1];
-        auto it = std::lower_bound(first, last, c.x,
-                                   [](const glm::ivec3& cell, int x) { return cell.x < x; });
-        return std::uint32_t(it - net_.cells.begin());
-    }
-
-  private:
-    const SurfaceNet& net_;
-    std::vector<std::uint32_t> row_offsets_;
-};
-
-// The node of cell c (inside mask `mask`) whose piece holds cube edge `edge` (crossed).
-std::uint32_t node_of_edge(const NodeIndex& index, glm::ivec3 c, unsigned mask, int edge) {
-    const int piece = detail::surface_piece_of_edge(mask, edge);
-    if (piece < 0) throw std::logic_error("surface net: a quad edge is not crossed");
-    return index.first_of(c) + std::uint32_t(piece);
-}
-
 // The segments of the Marching Cubes case on the cell's +axis face, each as its two crossed
 // edges. Two crossings make one segment; four (an ambiguous face) make two, each cutting off
 // one inside corner, the rule Marching Cubes uses.
@@ -167,7 +96,7 @@ struct FaceSegments {
     std::array<std::array<int, 2>, 2> edges{};
 };
 
-FaceSegments face_segments(unsigned mask, int axis) {
+FaceSegments make_face_segments(unsigned mask, int axis) {
     const glm::ivec2 in_face = other_axes(axis);
     FaceSegments face;
     std::array<int, 4> crossed{};
@@ -196,6 +125,17 @@ FaceSegments face_segments(unsigned mask, int axis) {
         }
     }
     return face;
+}
+
+// make_face_segments of every case and axis, derived once.
+const FaceSegments& face_segments(unsigned mask, int axis) {
+    static const auto table = [] {
+        std::array<std::array<FaceSegments, 3>, 256> faces{};
+        for (unsigned m = 0; m < 256; ++m)
+            for (int a = 0; a < 3; ++a) faces[m][std::size_t(a)] = make_face_segments(m, a);
+        return faces;
+    }();
+    return table[mask][std::size_t(axis)];
 }
 
 // Edge on the cell's +axis face, seen from the neighbouring cell (where it is on the -axis face).
@@ -228,10 +168,11 @@ struct LinkNode {
     int axis = 0;                         // the face is at cell[axis] + 1
 };
 
+// Writes the link nodes into the net's node arrays (sized for them) at their ids.
 void add_link_nodes(SurfaceNet& net, const std::vector<LinkNode>& link_nodes) {
     for (const LinkNode& l : link_nodes) {
-        net.cells.push_back(l.cell);
-        net.pieces.push_back(kLinkNodePiece);
+        net.cells[l.node] = l.cell;
+        net.pieces[l.node] = kLinkNodePiece;
         // On the face, in the quarter the segment cuts off; it starts at the segment's middle.
         const glm::vec3 m =
             0.5f * (edge_midpoint(l.cube_edges[0]) + edge_midpoint(l.cube_edges[1]));
@@ -240,8 +181,8 @@ void add_link_nodes(SurfaceNet& net, const std::vector<LinkNode>& link_nodes) {
             const unsigned code = axis == l.axis ? 3u : m[axis] < 0.5f ? 1u : 2u;
             region = std::uint8_t(region | code << (2 * axis));
         }
-        net.regions.push_back(region);
-        net.positions.push_back(glm::vec3(l.cell) + m);
+        net.regions[l.node] = region;
+        net.positions[l.node] = glm::vec3(l.cell) + m;
     }
 }
 
@@ -258,14 +199,24 @@ sorted_split_edges(const std::vector<LinkNode>& link_nodes) {
 // the quad with the link nodes inserted into their sides (up to one per side), fanned into
 // triangles from the first link node, same winding. The fan's triangles are fixed (no choice of
 // diagonal later), which is acceptable for the rare cells that need them.
-void add_quad(SurfaceNet& net, const std::array<std::uint32_t, 4>& quad,
+// Links (node pairs) of a range of slabs, in output order; the net's links are those of all
+// ranges in range order.
+using LinkList = std::vector<std::array<std::uint32_t, 2>>;
+
+// Quads and fixed triangles of a range of slabs, in output order.
+struct Polygons {
+    std::vector<std::array<std::uint32_t, 4>> quads;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+void add_quad(Polygons& out, const std::array<std::uint32_t, 4>& quad,
               const std::vector<LinkNode>& link_nodes,
               const std::vector<std::pair<std::uint64_t, std::uint32_t>>& split_edges,
               std::uint64_t key) {
     auto it = std::lower_bound(split_edges.begin(), split_edges.end(),
                                std::make_pair(key, std::uint32_t(0)));
     if (it == split_edges.end() || it->first != key) {
-        net.quads.push_back(quad);
+        out.quads.push_back(quad);
         return;
     }
     std::array<std::uint32_t, 8> polygon{};
@@ -283,7 +234,7 @@ void add_quad(SurfaceNet& net, const std::array<std::uint32_t, 4>& quad,
     }
     if (fan < 0) throw std::logic_error("surface net: a split link is not a side of its quad");
     for (int k = 1; k + 1 < size; ++k)
-        net.triangles.push_back({polygon[std::size_t(fan)], polygon[std::size_t((fan + k) % size)],
+        out.triangles.push_back({polygon[std::size_t(fan)], polygon[std::size_t((fan + k) % size)],
                                  polygon[std::size_t((fan + k + 1) % size)]});
 }
 
@@ -312,8 +263,10 @@ struct NodeFans {
     std::vector<std::uint32_t> roots;                        // one per fan
 };
 
-NodeFans node_fans(const SurfaceNet& net, std::uint32_t node, std::span<const std::uint32_t> star) {
-    NodeFans f;
+// Sets f to the fans of `node` (f's storage is reused: this runs for every border node).
+void node_fans(const SurfaceNet& net, std::uint32_t node, std::span<const std::uint32_t> star,
+               NodeFans& f) {
+    f.roots.clear();
     f.polygons.assign(star.begin(), star.end());
     const std::size_t count = star.size();
     f.in_of.resize(count);
@@ -343,7 +296,6 @@ NodeFans node_fans(const SurfaceNet& net, std::uint32_t node, std::span<const st
         if (std::find(f.roots.begin(), f.roots.end(), f.fan[k]) == f.roots.end())
             f.roots.push_back(f.fan[k]);
     }
-    return f;
 }
 
 // Two fans of a pinched border node joined by one triangle across one of the gaps between them
@@ -383,7 +335,7 @@ bridge_of_two_fans(const SurfaceNet& net, std::uint32_t node, const NodeFans& f,
 // Gives fan r > 0 of `node` a copy of the node (same cell and region) that takes its polygons
 // and links; each starts a little towards its own fan so the two are apart.
 void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
-                std::vector<std::array<std::uint32_t, 2>>& links) {
+                std::vector<LinkList>& link_parts) {
     for (std::size_t r = 0; r < f.roots.size(); ++r) {
         const std::uint32_t owner = r == 0 ? node : std::uint32_t(net.node_count());
         glm::vec3 centre(0.0f);
@@ -398,11 +350,12 @@ void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
                                                      : net.triangles[id - net.quads.size()].data();
             for (int j = 0; j < (id < net.quads.size() ? 4 : 3); ++j)
                 if (p[j] == node) p[j] = owner;
-            for (auto& l : links)
-                for (int e = 0; e < 2; ++e)
-                    if (l[std::size_t(e)] == node && (l[std::size_t(1 - e)] == f.in_of[k] ||
-                                                      l[std::size_t(1 - e)] == f.out_of[k]))
-                        l[std::size_t(e)] = owner;
+            for (LinkList& links : link_parts)
+                for (auto& l : links)
+                    for (int e = 0; e < 2; ++e)
+                        if (l[std::size_t(e)] == node && (l[std::size_t(1 - e)] == f.in_of[k] ||
+                                                          l[std::size_t(1 - e)] == f.out_of[k]))
+                            l[std::size_t(e)] = owner;
         }
         const NodeBox box = node_box(net, node);
         glm::vec3 start =
@@ -428,15 +381,20 @@ void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
 // (three fans, no single start, the edge exists) the node is split into one node per fan
 // instead: manifold too, but the Euler characteristic rises by one per copy (no test volume
 // needs it). A change touches the stars of the nodes around it, so a node next to one changed in
-// this pass waits for the next pass, with stars built anew.
-void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint32_t, 2>>& links) {
+// this pass waits for the next pass, with stars built anew. Leaves the stars of the mended net
+// in net.star_offsets and net.star.
+void mend_pinched_border_nodes(SurfaceNet& net, std::vector<LinkList>& link_parts) {
     constexpr int kPasses = 16;
+    add_stars(net);
     for (int pass = 0; pass < kPasses; ++pass) {
         const std::size_t nodes = net.node_count();
-        // The stars as this pass starts (copies of them: the pass adds polygons and nodes).
-        add_stars(net);
-        const std::vector<std::uint32_t> offsets = net.star_offsets, star = net.star;
+        // The stars as this pass starts. A pass changes polygons' corners and adds polygons and
+        // nodes, never the stars themselves: they stay those of the pass's start.
+        const std::vector<std::uint32_t>& offsets = net.star_offsets;
+        const std::vector<std::uint32_t>& star = net.star;
         std::array<std::uint32_t, 4> c{};
+        bool changed = false;
+        NodeFans f;
 
         std::vector<std::uint8_t> touched(nodes, 0);
         bool waiting = false;
@@ -454,7 +412,7 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint
             const bool border = glm::any(glm::equal(cell, glm::ivec3(0))) ||
                                 glm::any(glm::equal(cell, net.cell_dims - 1));
             if (around.size() < 2 || !border) continue;
-            const NodeFans f = node_fans(net, node, around);
+            node_fans(net, node, around, f);
             if (f.roots.size() < 2) continue;
             if (touched[node]) {
                 waiting = true;
@@ -471,55 +429,236 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<std::array<std::uint
             if (bridge) {
                 for (std::uint32_t n : *bridge) touch_around(n);
                 net.triangles.push_back(*bridge);
+                changed = true;
             } else if (pass + 1 < kPasses || !waiting) {
-                split_fans(net, node, f, links);
+                split_fans(net, node, f, link_parts);
+                changed = true;
             }
         }
+        if (changed) add_stars(net);
         if (!waiting) return;
     }
 }
 
-} // namespace
+// Slabs of cells per chunk of the parallel passes (parallel.h): fixed, so the output does not
+// depend on the thread count; small enough for two or more threads to balance.
+constexpr std::size_t kSlabsPerChunk = 8;
 
-SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& progress) {
-    SurfaceNet net;
-    const glm::ivec3 dims = segmentation.dims;
-    if (dims.x < 2 || dims.y < 2 || dims.z < 2) return net;
-    const glm::ivec3 cd = dims - 1;
-    net.cell_dims = cd;
+// The node id of the first piece and the case of every surface cell of one plane of cells,
+// dense over the plane. Entries of other cells are stale and never read: a face or edge that a
+// lookup goes through is crossed, so the cell on its other side is a surface cell.
+class CellPlane {
+  public:
+    explicit CellPlane(glm::ivec3 cell_dims)
+        : width_(std::size_t(cell_dims.x)), first_(std::make_unique_for_overwrite<std::uint32_t[]>(
+                                                width_ * std::size_t(cell_dims.y))),
+          mask_(std::make_unique_for_overwrite<std::uint8_t[]>(width_ * std::size_t(cell_dims.y))) {
+    }
+    void set(int x, int y, std::uint32_t first, unsigned mask) {
+        first_[at(x, y)] = first;
+        mask_[at(x, y)] = std::uint8_t(mask);
+    }
+    std::uint32_t first(int x, int y) const { return first_[at(x, y)]; }
+    unsigned mask(int x, int y) const { return mask_[at(x, y)]; }
 
-    // Pass 1: count nodes (pieces of surface cells) per row of cells.
-    const std::size_t rows = std::size_t(cd.y) * std::size_t(cd.z);
-    const std::vector<std::uint8_t> voxel_rows = classify_rows(segmentation);
-    std::vector<std::uint32_t> row_offsets(rows + 1, 0);
-    for (int z = 0; z < cd.z; ++z) {
-        progress.update(0.4f * float(z) / float(cd.z));
-        for (int y = 0; y < cd.y; ++y) {
-            std::uint32_t count = 0;
-            for_each_surface_cell_in_row(segmentation, voxel_rows, y, z,
-                                         [&](int, unsigned mask) { count += piece_count(mask); });
-            row_offsets[std::size_t(z) * cd.y + y + 1] = count;
+  private:
+    std::size_t at(int x, int y) const { return std::size_t(y) * width_ + std::size_t(x); }
+    std::size_t width_;
+    std::unique_ptr<std::uint32_t[]> first_;
+    std::unique_ptr<std::uint8_t[]> mask_;
+};
+
+// Where both segments of the ambiguous +axis face of a cell (case `mask`) join the same two
+// pieces, with the neighbour's case `neighbour_mask`: the second segment needs a link node.
+bool doubled_link(const PieceTable& pieces, unsigned mask, unsigned neighbour_mask, int axis,
+                  const FaceSegments& face) {
+    if (face.count != 2) return false;
+    const int e0 = face.edges[0][0], e1 = face.edges[1][0];
+    return pieces[mask][std::size_t(e0)] == pieces[mask][std::size_t(e1)] &&
+           pieces[neighbour_mask][std::size_t(edge_across_face(e0, axis))] ==
+               pieces[neighbour_mask][std::size_t(edge_across_face(e1, axis))];
+}
+
+// The 4 cells around the grid edge from a voxel p along `axis`, counter-clockwise seen from
+// +axis: with u = axis + 1 and v = axis + 2 (cyclic), at (u, v) offsets (-1,-1), (0,-1), (0,0),
+// (-1,0); each as its offset from p and the cube edge the grid edge is in that cell.
+struct RingCell {
+    int dx, dy, dz, edge;
+};
+const std::array<std::array<RingCell, 4>, 3>& quad_rings() {
+    static const auto rings = [] {
+        std::array<std::array<RingCell, 4>, 3> r{};
+        const glm::ivec2 ring[4] = {{-1, -1}, {0, -1}, {0, 0}, {-1, 0}};
+        for (int axis = 0; axis < 3; ++axis)
+            for (int k = 0; k < 4; ++k) {
+                glm::ivec3 offset(0);
+                offset[(axis + 1) % 3] = ring[k].x;
+                offset[(axis + 2) % 3] = ring[k].y;
+                r[std::size_t(axis)][std::size_t(k)] = {offset.x, offset.y, offset.z,
+                                                        cube_edge(axis, -offset)};
+            }
+        return r;
+    }();
+    return rings;
+}
+
+// Builds the net in passes over slabs of cells (see the top of this file): the inside bits;
+// counts of nodes per row of cells and of link nodes per slab; their prefix sums, so that every
+// node's id is known; then one pass that fills nodes, links and polygons, slab by slab.
+class NetBuilder {
+  public:
+    NetBuilder(const Segmentation& segmentation, const Progress& progress)
+        : segmentation_(segmentation), progress_(progress), dims_(segmentation.dims),
+          cd_(dims_ - 1), bits_(dims_), cases_(&detail::marching_cubes_case(0)),
+          pieces_(surface_piece_table()),
+          // Steps: planes classified, slabs counted, slabs filled.
+          steps_(progress, std::size_t(dims_.z) + 2 * std::size_t(cd_.z)) {}
+
+    SurfaceNet run() {
+        const std::size_t planes = std::size_t(dims_.z), slabs = std::size_t(cd_.z);
+        for_each_chunk(planes, kSlabsPerChunk,
+                       [&](std::size_t, std::size_t first, std::size_t end) {
+                           for (std::size_t z = first; z < end; ++z) classify_plane(int(z));
+                       });
+
+        const std::size_t rows = std::size_t(cd_.y) * slabs;
+        row_offsets_.assign(rows + 1, 0);
+        link_node_offsets_.assign(slabs + 1, 0);
+        for_each_chunk(slabs, kSlabsPerChunk, [&](std::size_t, std::size_t first, std::size_t end) {
+            for (std::size_t z = first; z < end; ++z) count_nodes(int(z));
+        });
+        // Prefix sums: the output can now be allocated exactly.
+        for (std::size_t r = 0; r < rows; ++r) {
+            if (row_offsets_[r + 1] > UINT32_MAX - row_offsets_[r])
+                throw InputError("surface net: the net would have more than 2^32 nodes, more "
+                                 "than 32-bit indices can address");
+            row_offsets_[r + 1] += row_offsets_[r];
+        }
+        link_node_offsets_[0] = row_offsets_[rows]; // link nodes follow the cells' nodes
+        for (std::size_t z = 0; z < slabs; ++z) {
+            if (link_node_offsets_[z + 1] > UINT32_MAX - link_node_offsets_[z])
+                throw InputError("surface net: the net would have more than 2^32 nodes, more "
+                                 "than 32-bit indices can address");
+            link_node_offsets_[z + 1] += link_node_offsets_[z];
+        }
+
+        SurfaceNet net;
+        net.cell_dims = cd_;
+        const std::size_t nodes = link_node_offsets_[slabs];
+        // The node arrays are zeroed in parallel: a serial part of the run otherwise.
+        for_each_chunk(4, 1, [&](std::size_t array, std::size_t, std::size_t) {
+            if (array == 0) detail::resize_on_huge_pages(net.cells, nodes);
+            if (array == 1) detail::resize_on_huge_pages(net.pieces, nodes);
+            if (array == 2) detail::resize_on_huge_pages(net.regions, nodes);
+            if (array == 3) detail::resize_on_huge_pages(net.positions, nodes);
+        });
+        std::vector<LinkList> link_parts(chunk_count(slabs, kSlabsPerChunk));
+        std::vector<Polygons> polygon_parts(link_parts.size());
+        for_each_chunk(
+            slabs, kSlabsPerChunk, [&](std::size_t chunk, std::size_t first, std::size_t end) {
+                fill_slabs(int(first), int(end), net, link_parts[chunk], polygon_parts[chunk]);
+            });
+
+        concatenate(polygon_parts, net);
+        mend_pinched_border_nodes(net, link_parts); // also builds the stars
+        set_links(net, link_parts);
+        progress_.update(1.0f);
+        return net;
+    }
+
+  private:
+    void classify_plane(int z) {
+        steps_.step();
+        for (int y = 0; y < dims_.y; ++y) {
+            const std::uint8_t* v = &segmentation_.inside[segmentation_.index(0, y, z)];
+            bits_.set_row(y, z, [&](int x) { return v[x] != 0; });
         }
     }
-    // Pass 2: prefix sum; output can now be allocated exactly.
-    for (std::size_t r = 0; r < rows; ++r) {
-        if (row_offsets[r + 1] > UINT32_MAX - row_offsets[r])
-            throw InputError("surface net: the net would have more than 2^32 nodes, more than "
-                             "32-bit indices can address");
-        row_offsets[r + 1] += row_offsets[r];
-    }
-    const std::size_t nodes = row_offsets[rows];
-    net.cells.resize(nodes);
-    net.pieces.resize(nodes);
-    net.regions.resize(nodes);
-    net.positions.resize(nodes);
 
-    // Pass 3: fill the nodes, one per piece.
-    for (int z = 0; z < cd.z; ++z)
-        for (int y = 0; y < cd.y; ++y) {
-            std::uint32_t id = row_offsets[std::size_t(z) * cd.y + y];
-            for_each_surface_cell_in_row(segmentation, voxel_rows, y, z, [&](int x, unsigned mask) {
-                const detail::MarchingCubesCase& c = detail::marching_cubes_case(mask);
+    bool inside(int x, int y, int z) const {
+        return ((bits_.row(y, z)[x / detail::kWordBits] >> (x % detail::kWordBits)) & 1u) != 0;
+    }
+
+    std::size_t row_index(int y, int z) const {
+        return std::size_t(z) * std::size_t(cd_.y) + std::size_t(y);
+    }
+
+    // Nodes of each row of cells of slab z (one per piece), and link nodes of the slab.
+    void count_nodes(int z) {
+        steps_.step();
+        std::uint32_t link_nodes = 0;
+        for (int y = 0; y < cd_.y; ++y) {
+            std::uint32_t count = 0;
+            bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
+                count += cases_[mask].loop_count;
+                for (int axis = 0; axis < 3; ++axis) {
+                    const FaceSegments& face = face_segments(mask, axis);
+                    if (face.count != 2) continue;
+                    glm::ivec3 n(x, y, z);
+                    if (++n[axis] >= cd_[axis]) continue;
+                    const unsigned neighbour_mask = bits_.cell_rows(n.y, n.z).mask(n.x);
+                    if (doubled_link(pieces_, mask, neighbour_mask, axis, face)) ++link_nodes;
+                }
+            });
+            row_offsets_[row_index(y, z) + 1] = count;
+        }
+        link_node_offsets_[std::size_t(z) + 1] = link_nodes;
+    }
+
+    void fill_plane(int z, CellPlane& plane) const {
+        for (int y = 0; y < cd_.y; ++y) {
+            std::uint32_t id = row_offsets_[row_index(y, z)];
+            bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
+                plane.set(x, y, id, mask);
+                id += cases_[mask].loop_count;
+            });
+        }
+    }
+
+    // Nodes, links and polygons of slabs [first, last). The cell planes z - 1, z and z + 1 are
+    // at hand for slab z; the link nodes of slab first - 1, which the polygons of slab first
+    // can need, are found again (without their links).
+    void fill_slabs(int first, int last, SurfaceNet& net, LinkList& links,
+                    Polygons& polygons) const {
+        // About two links and one quad per node on smooth surfaces.
+        const std::size_t nodes =
+            row_offsets_[row_index(0, last)] - row_offsets_[row_index(0, first)];
+        links.reserve(2 * nodes);
+        polygons.quads.reserve(nodes);
+        const auto planes = plane_pool_.take([&] {
+            return std::array<CellPlane, 3>{CellPlane(cd_), CellPlane(cd_), CellPlane(cd_)};
+        });
+        const auto plane = [&](int z) -> CellPlane& { return (*planes)[std::size_t(z % 3)]; };
+        std::vector<LinkNode> before, here; // link nodes of slabs z - 1 and z
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> split_edges;
+        fill_plane(first, plane(first));
+        if (first > 0) {
+            fill_plane(first - 1, plane(first - 1));
+            LinkList ignored;
+            slab_links(first - 1, plane(first - 1), plane(first), ignored, before);
+        }
+        for (int z = first; z < last; ++z) {
+            steps_.step();
+            if (z + 1 < cd_.z) fill_plane(z + 1, plane(z + 1));
+            fill_nodes(z, net);
+            here.clear();
+            slab_links(z, plane(z), plane(z + 1), links, here);
+            add_link_nodes(net, here);
+            std::vector<LinkNode> near(before);
+            near.insert(near.end(), here.begin(), here.end());
+            split_edges = sorted_split_edges(near);
+            slab_quads(z, z > 0 ? &plane(z - 1) : nullptr, plane(z), near, split_edges, polygons);
+            std::swap(before, here);
+        }
+    }
+
+    // One node per piece, at the cell centre when alone, else at the centroid of its crossed
+    // edges' midpoints.
+    void fill_nodes(int z, SurfaceNet& net) const {
+        for (int y = 0; y < cd_.y; ++y) {
+            std::uint32_t id = row_offsets_[row_index(y, z)];
+            bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
+                const detail::MarchingCubesCase& c = cases_[mask];
                 const glm::vec3 corner = glm::vec3(float(x), float(y), float(z));
                 int first = 0;
                 for (int loop = 0; loop < c.loop_count; ++loop) {
@@ -539,101 +678,151 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
                 }
             });
         }
-    progress.update(0.6f);
-    const NodeIndex index(net, std::move(row_offsets));
+    }
 
-    // Links: the pieces of a cell and of its +axis neighbour that meet on the face between
-    // them (share a crossed edge of it). Where both segments of an ambiguous face join the same
-    // two pieces, the second gets a node of its own: see add_link_node.
-    std::vector<std::array<std::uint32_t, 2>> links;
-    std::vector<LinkNode> link_nodes;
-    for (std::uint32_t i = 0; i < nodes; ++i) {
-        if (net.pieces[i] != 0) continue; // once per cell
-        const glm::ivec3 c = net.cells[i];
-        const unsigned mask = cell_mask(segmentation, c);
-        for (int axis = 0; axis < 3; ++axis) {
-            if (c[axis] + 1 >= cd[axis]) continue;
-            glm::ivec3 n = c;
-            n[axis] += 1;
-            const unsigned neighbour_mask = cell_mask(segmentation, n);
-            const FaceSegments face = face_segments(mask, axis);
-            std::array<std::uint32_t, 2> previous{};
-            for (int k = 0; k < face.count; ++k) {
-                const int edge = face.edges[k][0];
-                const std::uint32_t a =
-                    i + std::uint32_t(detail::surface_piece_of_edge(mask, edge));
-                const std::uint32_t b =
-                    node_of_edge(index, n, neighbour_mask, edge_across_face(edge, axis));
-                if (k == 1 && previous == std::array<std::uint32_t, 2>{a, b}) {
-                    const std::uint32_t m = std::uint32_t(nodes + link_nodes.size());
-                    link_nodes.push_back({m,
-                                          c,
-                                          a,
-                                          b,
-                                          {edge_key(segmentation, c, face.edges[k][0]),
-                                           edge_key(segmentation, c, face.edges[k][1])},
-                                          face.edges[k],
-                                          axis});
-                    links.push_back({a, m});
-                    links.push_back({m, b});
-                    continue;
+    // Links of slab z: the pieces of a cell and of its +axis neighbour that meet on the face
+    // between them (share a crossed edge of it), cell by cell in node order. Where both
+    // segments of an ambiguous face join the same two pieces, the second gets a node of its own
+    // (LinkNode), numbered after the cells' nodes in slab order.
+    void slab_links(int z, const CellPlane& plane, const CellPlane& above, LinkList& links,
+                    std::vector<LinkNode>& link_nodes) const {
+        std::uint32_t next_link_node = std::uint32_t(link_node_offsets_[std::size_t(z)]);
+        for (int y = 0; y < cd_.y; ++y) {
+            std::uint32_t i = row_offsets_[row_index(y, z)];
+            bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
+                const glm::ivec3 c(x, y, z);
+                for (int axis = 0; axis < 3; ++axis) {
+                    if (c[axis] + 1 >= cd_[axis]) continue;
+                    const FaceSegments& face = face_segments(mask, axis);
+                    if (face.count == 0) continue;
+                    glm::ivec3 n = c;
+                    n[axis] += 1;
+                    const CellPlane& np = axis == 2 ? above : plane;
+                    const unsigned neighbour_mask = np.mask(n.x, n.y);
+                    for (int k = 0; k < face.count; ++k) {
+                        const int edge = face.edges[std::size_t(k)][0];
+                        const std::uint32_t a = i + std::uint32_t(pieces_[mask][std::size_t(edge)]);
+                        const std::uint32_t b = node_of_edge(np.first(n.x, n.y), neighbour_mask,
+                                                             edge_across_face(edge, axis));
+                        if (k == 1 && doubled_link(pieces_, mask, neighbour_mask, axis, face)) {
+                            const std::uint32_t m = next_link_node++;
+                            link_nodes.push_back({m,
+                                                  c,
+                                                  a,
+                                                  b,
+                                                  {edge_key(segmentation_, c, face.edges[1][0]),
+                                                   edge_key(segmentation_, c, face.edges[1][1])},
+                                                  face.edges[1],
+                                                  axis});
+                            links.push_back({a, m});
+                            links.push_back({m, b});
+                            continue;
+                        }
+                        links.push_back({a, b});
+                    }
                 }
-                previous = {a, b};
-                links.push_back({a, b});
-            }
+                i += cases_[mask].loop_count;
+            });
         }
+        if (next_link_node != link_node_offsets_[std::size_t(z) + 1])
+            throw std::logic_error("surface net: fill pass disagrees with count pass");
     }
-    add_link_nodes(net, link_nodes);
-    const std::vector<std::pair<std::uint64_t, std::uint32_t>> split_edges =
-        sorted_split_edges(link_nodes);
-    progress.update(0.8f);
 
-    // Quads: one per grid edge whose two voxel labels differ, made of the pieces holding that
-    // edge in the 4 cells around it. Around an edge from voxel p along `axis`, with u = axis + 1
-    // and v = axis + 2 (cyclic), the cells at (u, v) offsets (-1,-1), (0,-1), (0,0), (-1,0) run
-    // counter-clockwise seen from +axis, so the quad faces +axis when p is inside; otherwise it
-    // is reversed. The cell at offset (0,0) is cell p itself, a surface cell: visiting the cells'
-    // lowest-corner edges finds every quad once, in time proportional to the surface.
-    const glm::ivec2 ring[4] = {{-1, -1}, {0, -1}, {0, 0}, {-1, 0}};
-    net.quads.reserve(nodes);
-    for (std::uint32_t i = 0; i < nodes; ++i) {
-        if (net.pieces[i] != 0) continue; // once per cell
-        const glm::ivec3 p = net.cells[i];
-        const bool here = segmentation.at(p.x, p.y, p.z);
-        for (int axis = 0; axis < 3; ++axis) {
-            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            if (p[u] < 1 || p[v] < 1) continue; // a border edge: fewer than 4 cells around it
-            glm::ivec3 q = p;
-            q[axis] += 1;
-            if (segmentation.at(q.x, q.y, q.z) == here) continue;
-            std::array<std::uint32_t, 4> quad;
-            for (int k = 0; k < 4; ++k) {
-                glm::ivec3 c = p;
-                c[u] += ring[k].x;
-                c[v] += ring[k].y;
-                const glm::ivec3 offset = p - c; // where the edge sits in cell c
-                quad[std::size_t(k)] =
-                    node_of_edge(index, c, cell_mask(segmentation, c), cube_edge(axis, offset));
-            }
-            if (!here) std::swap(quad[1], quad[3]);
-            add_quad(net, quad, link_nodes, split_edges,
-                     segmentation.index(p.x, p.y, p.z) * 3 + std::uint64_t(axis));
+    // The node of the piece holding cube edge `edge` (crossed) of a cell whose first node is
+    // `first`.
+    std::uint32_t node_of_edge(std::uint32_t first, unsigned mask, int edge) const {
+        const int piece = pieces_[mask][std::size_t(edge)];
+        if (piece < 0) throw std::logic_error("surface net: a quad edge is not crossed");
+        return first + std::uint32_t(piece);
+    }
+
+    // Quads of slab z: one per grid edge whose two voxel labels differ, made of the pieces
+    // holding that edge in the 4 cells around it. Around an edge from voxel p along `axis`,
+    // with u = axis + 1 and v = axis + 2 (cyclic), the cells at (u, v) offsets (-1,-1), (0,-1),
+    // (0,0), (-1,0) run counter-clockwise seen from +axis, so the quad faces +axis when p is
+    // inside; otherwise it is reversed. The cell at offset (0,0) is cell p itself, a surface
+    // cell: visiting the cells' lowest-corner edges finds every quad once, in time proportional
+    // to the surface.
+    void slab_quads(int z, const CellPlane* below, const CellPlane& plane,
+                    const std::vector<LinkNode>& link_nodes,
+                    const std::vector<std::pair<std::uint64_t, std::uint32_t>>& split_edges,
+                    Polygons& out) const {
+        const std::array<std::array<RingCell, 4>, 3>& rings = quad_rings();
+        for (int y = 0; y < cd_.y; ++y)
+            bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
+                const int p[3] = {x, y, z};
+                const bool here = (mask & 1u) != 0;
+                for (int axis = 0; axis < 3; ++axis) {
+                    // The edge from corner 0 to corner 1 << axis: crossed when they differ.
+                    if (((mask >> (1 << axis)) & 1u) == unsigned(here)) continue;
+                    if (p[(axis + 1) % 3] < 1 || p[(axis + 2) % 3] < 1) continue; // border edge
+                    std::array<std::uint32_t, 4> quad;
+                    for (int k = 0; k < 4; ++k) {
+                        const RingCell& r = rings[std::size_t(axis)][std::size_t(k)];
+                        const CellPlane& cp = r.dz == 0 ? plane : *below;
+                        const int cx = x + r.dx, cy = y + r.dy;
+                        quad[std::size_t(k)] =
+                            node_of_edge(cp.first(cx, cy), cp.mask(cx, cy), r.edge);
+                    }
+                    if (!here) std::swap(quad[1], quad[3]);
+                    add_quad(out, quad, link_nodes, split_edges,
+                             segmentation_.index(x, y, z) * 3 + std::uint64_t(axis));
+                }
+            });
+    }
+
+    // The polygons of all ranges, in range order (copied in parallel).
+    static void concatenate(std::vector<Polygons>& parts, SurfaceNet& net) {
+        std::vector<std::size_t> quads(parts.size() + 1, 0), triangles(parts.size() + 1, 0);
+        for (std::size_t k = 0; k < parts.size(); ++k) {
+            quads[k + 1] = quads[k] + parts[k].quads.size();
+            triangles[k + 1] = triangles[k] + parts[k].triangles.size();
         }
+        net.quads.resize(quads.back());
+        net.triangles.resize(triangles.back());
+        for_each_chunk(parts.size(), 1, [&](std::size_t k, std::size_t, std::size_t) {
+            std::copy(parts[k].quads.begin(), parts[k].quads.end(), net.quads.begin() + quads[k]);
+            std::copy(parts[k].triangles.begin(), parts[k].triangles.end(),
+                      net.triangles.begin() + triangles[k]);
+            parts[k] = {};
+        });
     }
-    mend_pinched_border_nodes(net, links);
-    net.link_offsets.assign(net.node_count() + 1, 0);
-    for (const auto& l : links) ++net.link_offsets[l[0] + 1], ++net.link_offsets[l[1] + 1];
-    for (std::size_t k = 0; k < net.node_count(); ++k)
-        net.link_offsets[k + 1] += net.link_offsets[k];
-    net.links.resize(net.link_offsets.back());
-    std::vector<std::uint32_t> cursor(net.link_offsets.begin(), net.link_offsets.end() - 1);
-    for (const auto& l : links) {
-        net.links[cursor[l[0]]++] = l[1];
-        net.links[cursor[l[1]]++] = l[0];
+
+    // The links as CSR: each node's neighbours in the order of the links.
+    static void set_links(SurfaceNet& net, const std::vector<LinkList>& link_parts) {
+        net.link_offsets.assign(net.node_count() + 1, 0);
+        for (const LinkList& links : link_parts)
+            for (const auto& l : links) ++net.link_offsets[l[0] + 1], ++net.link_offsets[l[1] + 1];
+        for (std::size_t k = 0; k < net.node_count(); ++k)
+            net.link_offsets[k + 1] += net.link_offsets[k];
+        net.links.resize(net.link_offsets.back());
+        std::vector<std::uint32_t> cursor(net.link_offsets.begin(), net.link_offsets.end() - 1);
+        for (const LinkList& links : link_parts)
+            for (const auto& l : links) {
+                net.links[cursor[l[0]]++] = l[1];
+                net.links[cursor[l[1]]++] = l[0];
+            }
     }
-    add_stars(net);
-    progress.update(1.0f);
-    return net;
+
+    const Segmentation& segmentation_;
+    const Progress& progress_;
+    const glm::ivec3 dims_, cd_;
+    detail::BitVolume bits_;
+    const detail::MarchingCubesCase* cases_;
+    const PieceTable& pieces_;
+    std::vector<std::uint32_t> row_offsets_;     // first node of each row of cells, plus the total
+    std::vector<std::size_t> link_node_offsets_; // first link node of each slab, plus the total
+    mutable detail::StepProgress steps_;
+    mutable detail::ScratchPool<std::array<CellPlane, 3>> plane_pool_;
+};
+
+} // namespace
+
+SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& progress) {
+    const glm::ivec3 dims = segmentation.dims;
+    if (dims.x < 2 || dims.y < 2 || dims.z < 2) return {};
+    progress.update(0.0f);
+    return NetBuilder(segmentation, progress).run();
 }
 
 } // namespace snert

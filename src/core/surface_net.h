@@ -79,6 +79,10 @@ inline NodeBox node_box(const SurfaceNet& net, std::size_t node) {
     return box;
 }
 
+// Builds the net in passes over fixed chunks of slabs of cells on up to one thread per core
+// (parallel.h; a ThreadLimit caps it). Node, link and polygon order are the cells' x-fastest
+// order, the same for any thread count. Progress is reported about once per slice and pass, one
+// call at a time and increasing; cancellation (Cancelled) is checked at the same points.
 SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& progress = {});
 
 // The corners of polygon `id` of the net (quad q as q, fixed triangle t as quads.size() + t, the

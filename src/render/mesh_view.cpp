@@ -44,24 +44,6 @@ const char* shading_name(Shading shading) {
     return "?";
 }
 
-std::vector<glm::vec3> vertex_normals(const Mesh& mesh) {
-    std::vector<glm::vec3> normals(mesh.positions.size(), glm::vec3(0.0f));
-    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-        const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-        // The cross product's length is twice the area: summing it weights by area.
-        const glm::vec3 n = glm::cross(mesh.positions[b] - mesh.positions[a],
-                                       mesh.positions[c] - mesh.positions[a]);
-        normals[a] += n;
-        normals[b] += n;
-        normals[c] += n;
-    }
-    for (glm::vec3& n : normals) {
-        const float length = glm::length(n);
-        n = length > 0.0f ? n / length : glm::vec3(0.0f, 0.0f, 1.0f);
-    }
-    return normals;
-}
-
 // ---------------------------------------------------------------------------------------------
 // MeshView
 
@@ -78,72 +60,116 @@ MeshView& MeshView::operator=(MeshView&& other) noexcept {
     if (this != &other) {
         release();
         vertex_array_ = std::exchange(other.vertex_array_, 0);
-        vertex_buffer_ = std::exchange(other.vertex_buffer_, 0);
+        position_buffer_ = std::exchange(other.position_buffer_, 0);
+        normal_buffer_ = std::exchange(other.normal_buffer_, 0);
         index_buffer_ = std::exchange(other.index_buffer_, 0);
         quality_buffer_ = std::exchange(other.quality_buffer_, 0);
         quality_texture_ = std::exchange(other.quality_texture_, 0);
+        preview_index_buffer_ = std::exchange(other.preview_index_buffer_, 0);
+        preview_quality_buffer_ = std::exchange(other.preview_quality_buffer_, 0);
+        preview_quality_texture_ = std::exchange(other.preview_quality_texture_, 0);
         triangles_ = std::exchange(other.triangles_, 0);
+        vertices_ = std::exchange(other.vertices_, 0);
+        preview_triangles_ = std::exchange(other.preview_triangles_, 0);
         bounds_ = other.bounds_;
+        counters_ = other.counters_;
     }
     return *this;
 }
 
 void MeshView::release() {
     if (vertex_array_ == 0) return;
+    glDeleteTextures(1, &preview_quality_texture_);
+    glDeleteBuffers(1, &preview_quality_buffer_);
+    glDeleteBuffers(1, &preview_index_buffer_);
+    preview_index_buffer_ = preview_quality_buffer_ = preview_quality_texture_ = 0;
+    preview_triangles_ = 0;
     glDeleteTextures(1, &quality_texture_);
     glDeleteBuffers(1, &quality_buffer_);
     glDeleteBuffers(1, &index_buffer_);
-    glDeleteBuffers(1, &vertex_buffer_);
+    glDeleteBuffers(1, &normal_buffer_);
+    glDeleteBuffers(1, &position_buffer_);
     glDeleteVertexArrays(1, &vertex_array_);
-    vertex_array_ = vertex_buffer_ = index_buffer_ = quality_buffer_ = quality_texture_ = 0;
-    triangles_ = 0;
+    vertex_array_ = position_buffer_ = normal_buffer_ = index_buffer_ = 0;
+    quality_buffer_ = quality_texture_ = 0;
+    triangles_ = vertices_ = 0;
 }
 
-void MeshView::upload(const Mesh& mesh, std::span<const float> quality) {
-    const std::size_t triangles = mesh.triangle_count();
-    if (mesh.indices.size() % 3 != 0)
-        throw std::invalid_argument("mesh index count is not a multiple of 3");
-    for (std::uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size())
+namespace {
+
+void check_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
+    for (std::uint32_t i : indices)
+        if (i >= vertex_count)
             throw std::invalid_argument("mesh index " + std::to_string(i) + " out of range (" +
-                                        std::to_string(mesh.positions.size()) + " vertices)");
-    std::vector<float> computed;
-    if (quality.empty() && triangles > 0) {
+                                        std::to_string(vertex_count) + " vertices)");
+}
+
+// The quality given, or computed; throws when its size does not match.
+std::span<const float> quality_of(const Mesh& mesh, std::span<const float> quality,
+                                  std::vector<float>& computed) {
+    if (quality.empty() && mesh.triangle_count() > 0) {
         computed = triangle_quality(mesh);
         quality = computed;
     }
-    if (quality.size() != triangles)
+    if (quality.size() != mesh.triangle_count())
         throw std::invalid_argument("quality has " + std::to_string(quality.size()) +
-                                    " values for " + std::to_string(triangles) + " triangles");
+                                    " values for " + std::to_string(mesh.triangle_count()) +
+                                    " triangles");
+    return quality;
+}
+
+std::span<const glm::vec3> normals_of(const Mesh& mesh, std::span<const glm::vec3> normals,
+                                      std::vector<glm::vec3>& computed) {
+    if (normals.empty()) {
+        computed = vertex_normals(mesh);
+        normals = computed;
+    }
+    if (normals.size() != mesh.positions.size())
+        throw std::invalid_argument("normals have " + std::to_string(normals.size()) +
+                                    " values for " + std::to_string(mesh.positions.size()) +
+                                    " vertices");
+    return normals;
+}
+
+template <typename T> GLsizeiptr bytes(std::span<const T> data) {
+    return GLsizeiptr(data.size() * sizeof(T));
+}
+
+} // namespace
+
+void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
+                      std::span<const glm::vec3> normals) {
+    if (mesh.indices.size() % 3 != 0)
+        throw std::invalid_argument("mesh index count is not a multiple of 3");
+    check_indices(mesh.indices, mesh.positions.size());
+    std::vector<float> computed_quality;
+    quality = quality_of(mesh, quality, computed_quality);
+    std::vector<glm::vec3> computed_normals;
+    normals = normals_of(mesh, normals, computed_normals);
 
     if (vertex_array_ == 0) {
         glGenVertexArrays(1, &vertex_array_);
-        glGenBuffers(1, &vertex_buffer_);
+        glGenBuffers(1, &position_buffer_);
+        glGenBuffers(1, &normal_buffer_);
         glGenBuffers(1, &index_buffer_);
         glGenBuffers(1, &quality_buffer_);
         glGenTextures(1, &quality_texture_);
     }
-    // Interleaved position and normal, 6 floats per vertex.
-    const std::vector<glm::vec3> normals = vertex_normals(mesh);
-    std::vector<glm::vec3> vertices;
-    vertices.reserve(mesh.positions.size() * 2);
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        vertices.push_back(mesh.positions[i]);
-        vertices.push_back(normals[i]);
-    }
+    // Positions and normals in buffers of their own: a relaxation step replaces both straight
+    // from the mesh's arrays. DYNAMIC: they may be updated many times.
+    const std::span<const glm::vec3> positions = mesh.positions;
     glBindVertexArray(vertex_array_);
-    glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(glm::vec3)), vertices.data(),
-                 GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, position_buffer_);
+    glBufferData(GL_ARRAY_BUFFER, bytes(positions), positions.data(), GL_DYNAMIC_DRAW);
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 2 * sizeof(glm::vec3), nullptr);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    glBindBuffer(GL_ARRAY_BUFFER, normal_buffer_);
+    glBufferData(GL_ARRAY_BUFFER, bytes(normals), normals.data(), GL_DYNAMIC_DRAW);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 2 * sizeof(glm::vec3),
-                          reinterpret_cast<const void*>(
-                              sizeof(glm::vec3))); // NOLINT(performance-no-int-to-ptr): GL offset
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(std::uint32_t)),
-                 mesh.indices.data(), GL_STATIC_DRAW);
+    const std::span<const std::uint32_t> indices = mesh.indices;
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(indices), indices.data(), GL_DYNAMIC_DRAW);
     glBindVertexArray(0);
 
     // Per-triangle quality in a buffer texture, fetched by gl_PrimitiveID. A buffer texture
@@ -151,22 +177,141 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality) {
     const float unused_value = 0.0f;
     glBindBuffer(GL_TEXTURE_BUFFER, quality_buffer_);
     glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
-                 quality.empty() ? &unused_value : quality.data(), GL_STATIC_DRAW);
+                 quality.empty() ? &unused_value : quality.data(), GL_DYNAMIC_DRAW);
     glBindTexture(GL_TEXTURE_BUFFER, quality_texture_);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, quality_buffer_);
     glBindTexture(GL_TEXTURE_BUFFER, 0);
     glBindBuffer(GL_TEXTURE_BUFFER, 0);
     check_gl("MeshView::upload");
 
-    triangles_ = triangles;
+    triangles_ = mesh.triangle_count();
+    vertices_ = mesh.positions.size();
     bounds_ = mesh_bounds(mesh);
+    ++counters_.uploads;
+    counters_.vertex_bytes += std::size_t(bytes(positions) + bytes(normals));
+    counters_.index_bytes += std::size_t(bytes(indices));
+    counters_.quality_bytes += std::size_t(bytes(quality));
+}
+
+bool MeshView::update(const Mesh& mesh, std::span<const std::uint32_t> previous_indices,
+                      std::span<const float> quality, std::span<const glm::vec3> normals) {
+    if (vertex_array_ == 0 || mesh.positions.size() != vertices_ ||
+        mesh.indices.size() != triangles_ * 3 || previous_indices.size() != mesh.indices.size())
+        return false;
+    // The runs of blocks whose indices changed (quads split along their other diagonal are
+    // scattered over the mesh, a few per step).
+    constexpr std::size_t kBlock = 384; // indices (128 triangles)
+    const std::span<const std::uint32_t> indices = mesh.indices;
+    std::vector<std::pair<std::size_t, std::size_t>> runs; // [first, end) in indices
+    for (std::size_t b = 0; b < indices.size(); b += kBlock) {
+        const std::size_t e = std::min(b + kBlock, indices.size());
+        if (std::equal(indices.begin() + std::ptrdiff_t(b), indices.begin() + std::ptrdiff_t(e),
+                       previous_indices.begin() + std::ptrdiff_t(b)))
+            continue;
+        if (!runs.empty() && runs.back().second == b)
+            runs.back().second = e;
+        else
+            runs.emplace_back(b, e);
+    }
+    for (const auto& [b, e] : runs) check_indices(indices.subspan(b, e - b), vertices_);
+    std::vector<float> computed_quality;
+    quality = quality_of(mesh, quality, computed_quality);
+    std::vector<glm::vec3> computed_normals;
+    normals = normals_of(mesh, normals, computed_normals);
+
+    const std::span<const glm::vec3> positions = mesh.positions;
+    glBindBuffer(GL_ARRAY_BUFFER, position_buffer_);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes(positions), positions.data());
+    glBindBuffer(GL_ARRAY_BUFFER, normal_buffer_);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes(normals), normals.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    std::size_t index_bytes = 0;
+    if (!runs.empty()) {
+        glBindVertexArray(vertex_array_);
+        for (const auto& [b, e] : runs) {
+            const std::span<const std::uint32_t> run = indices.subspan(b, e - b);
+            glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, GLintptr(b * sizeof(std::uint32_t)),
+                            bytes(run), run.data());
+            index_bytes += std::size_t(bytes(run));
+        }
+        glBindVertexArray(0);
+    }
+    if (!quality.empty()) {
+        glBindBuffer(GL_TEXTURE_BUFFER, quality_buffer_);
+        glBufferSubData(GL_TEXTURE_BUFFER, 0, bytes(quality), quality.data());
+        glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    }
+    check_gl("MeshView::update");
+
+    bounds_ = mesh_bounds(mesh);
+    ++counters_.updates;
+    counters_.vertex_bytes += std::size_t(bytes(positions) + bytes(normals));
+    counters_.index_bytes += index_bytes;
+    counters_.quality_bytes += std::size_t(bytes(quality));
+    return true;
+}
+
+void MeshView::set_preview(std::span<const std::uint32_t> indices, std::span<const float> quality) {
+    if (vertex_array_ == 0) return;
+    if (indices.empty()) {
+        preview_triangles_ = 0;
+        return;
+    }
+    if (indices.size() % 3 != 0 || quality.size() != indices.size() / 3)
+        throw std::invalid_argument("preview: 3 indices and one quality per triangle");
+    check_indices(indices, vertices_);
+    if (preview_index_buffer_ == 0) {
+        glGenBuffers(1, &preview_index_buffer_);
+        glGenBuffers(1, &preview_quality_buffer_);
+        glGenTextures(1, &preview_quality_texture_);
+    }
+    // Filled through a neutral target (the element binding belongs to the vertex array);
+    // draw() binds it as the index buffer when drawing the preview.
+    glBindBuffer(GL_COPY_WRITE_BUFFER, preview_index_buffer_);
+    glBufferData(GL_COPY_WRITE_BUFFER, bytes(indices), indices.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    preview_triangles_ = indices.size() / 3;
+    counters_.index_bytes += std::size_t(bytes(indices));
+    const float unused_value = 0.0f;
+    glBindBuffer(GL_TEXTURE_BUFFER, preview_quality_buffer_);
+    glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
+                 quality.empty() ? &unused_value : quality.data(), GL_DYNAMIC_DRAW);
+    glBindTexture(GL_TEXTURE_BUFFER, preview_quality_texture_);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, preview_quality_buffer_);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    counters_.quality_bytes += std::size_t(bytes(quality));
+    check_gl("MeshView::set_preview");
+}
+
+void MeshView::set_preview_quality(std::span<const float> quality) {
+    if (preview_triangles_ == 0 || quality.size() != preview_triangles_) return;
+    glBindBuffer(GL_TEXTURE_BUFFER, preview_quality_buffer_);
+    glBufferSubData(GL_TEXTURE_BUFFER, 0, bytes(quality), quality.data());
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    counters_.quality_bytes += std::size_t(bytes(quality));
 }
 
 // ---------------------------------------------------------------------------------------------
 // MeshRenderer
 
+namespace {
+// `source` with `#define SNERT_DIRECT` after its #version line.
+std::string direct(const char* source) {
+    std::string text = source;
+    const std::size_t line_end = text.find('\n');
+    text.insert(line_end == std::string::npos ? text.size() : line_end + 1,
+                "#define SNERT_DIRECT 1\n");
+    return text;
+}
+} // namespace
+
+// Two mesh programs: with the geometry shader for the wireframe (it needs each triangle's
+// barycentrics), without it for everything else.
 struct MeshRenderer::Programs {
-    Program mesh{"mesh", shaders::kMeshVert, shaders::kMeshGeom, shaders::kMeshFrag};
+    Program wire{"mesh", shaders::kMeshVert, shaders::kMeshGeom, shaders::kMeshFrag};
+    Program mesh{"mesh (direct)", direct(shaders::kMeshVert).c_str(), nullptr,
+                 direct(shaders::kMeshFrag).c_str()};
     Program background{"background", shaders::kBackgroundVert, nullptr, shaders::kBackgroundFrag};
 };
 
@@ -220,7 +365,8 @@ void MeshRenderer::draw_background(const Viewport& viewport, const DrawStyle& st
 }
 
 void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const Viewport& viewport,
-                        const DrawStyle& style) const {
+                        const DrawStyle& style, bool preview) const {
+    preview = preview && mesh.has_preview();
     if (mesh.empty() || viewport.width <= 0 || viewport.height <= 0) return;
     set_viewport(viewport);
     glEnable(GL_DEPTH_TEST);
@@ -229,7 +375,7 @@ void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const V
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
 
-    const Program& p = programs_->mesh;
+    const Program& p = style.wireframe ? programs_->wire : programs_->mesh;
     p.use();
     const glm::mat4 view = camera.view();
     const glm::mat4 projection = camera.projection(viewport.aspect());
@@ -245,12 +391,20 @@ void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const V
     glUniform1i(p.uniform("quality"), kQualityUnit);
     glUniform1i(p.uniform("colormap"), kColormapUnit);
     glActiveTexture(GL_TEXTURE0 + kQualityUnit);
-    glBindTexture(GL_TEXTURE_BUFFER, mesh.quality_texture_);
+    glBindTexture(GL_TEXTURE_BUFFER,
+                  preview ? mesh.preview_quality_texture_ : mesh.quality_texture_);
     glActiveTexture(GL_TEXTURE0 + kColormapUnit);
     glBindTexture(GL_TEXTURE_1D, colormap_texture_);
 
     glBindVertexArray(mesh.vertex_array_);
-    glDrawElements(GL_TRIANGLES, GLsizei(mesh.triangles_ * 3), GL_UNSIGNED_INT, nullptr);
+    if (preview) {
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.preview_index_buffer_);
+        glDrawElements(GL_TRIANGLES, GLsizei(mesh.preview_triangles_ * 3), GL_UNSIGNED_INT,
+                       nullptr);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.index_buffer_); // the vertex array's own
+    } else {
+        glDrawElements(GL_TRIANGLES, GLsizei(mesh.triangles_ * 3), GL_UNSIGNED_INT, nullptr);
+    }
     glBindVertexArray(0);
 
     glBindTexture(GL_TEXTURE_1D, 0);

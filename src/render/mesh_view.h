@@ -21,6 +21,7 @@
 #include "colormap.h"
 #include "core/mesh.h"
 #include "gl.h"
+#include "normals.h" // vertex_normals
 
 namespace snert::render {
 
@@ -49,9 +50,14 @@ struct Viewport {
     float aspect() const { return height > 0 ? float(width) / float(height) : 1.0f; }
 };
 
-// Area-weighted vertex normals (unit length; +z for a vertex with no area around it), the
-// normals of smooth shading. Winding gives the direction: counter-clockwise seen from outside.
-std::vector<glm::vec3> vertex_normals(const Mesh& mesh);
+// What MeshView sent to the GPU so far (tests check that an update sends what changed only).
+struct UploadCounters {
+    int uploads = 0;              // whole meshes (new buffers)
+    int updates = 0;              // positions, normals and quality of the same topology
+    std::size_t vertex_bytes = 0; // positions and normals
+    std::size_t index_bytes = 0;
+    std::size_t quality_bytes = 0;
+};
 
 // One mesh on the GPU: positions, smooth normals, indices and per-triangle quality.
 class MeshView {
@@ -66,7 +72,22 @@ class MeshView {
     // Replaces the GPU copy with `mesh`. `quality` has one value per triangle, in triangle
     // order (as triangle_quality returns it); when empty it is computed here. Throws
     // std::invalid_argument when its size does not match or an index is out of range.
-    void upload(const Mesh& mesh, std::span<const float> quality = {});
+    // `normals` (one per vertex, as vertex_normals makes them) are computed here when empty.
+    void upload(const Mesh& mesh, std::span<const float> quality = {},
+                std::span<const glm::vec3> normals = {});
+    // The same topology with new positions (a relaxation step): `mesh` has the vertex and
+    // triangle counts of the mesh uploaded last, whose indices are `previous_indices`. Sends the
+    // positions, normals and quality, and of the indices only the blocks that changed (none
+    // when the triangulation stayed). Returns false, changing nothing, when the counts differ.
+    bool update(const Mesh& mesh, std::span<const std::uint32_t> previous_indices,
+                std::span<const float> quality = {}, std::span<const glm::vec3> normals = {});
+    const UploadCounters& counters() const { return counters_; }
+    // A coarse stand-in over the same vertices, drawn instead of the mesh when asked (while
+    // the camera moves): its triangles (3 indices each) and their quality. Empty: none.
+    void set_preview(std::span<const std::uint32_t> indices, std::span<const float> quality);
+    // Replaces the preview's quality only (the mesh was updated).
+    void set_preview_quality(std::span<const float> quality);
+    bool has_preview() const { return preview_triangles_ > 0; }
 
     std::size_t triangle_count() const { return triangles_; }
     const Bounds& bounds() const { return bounds_; }
@@ -76,10 +97,12 @@ class MeshView {
     friend class MeshRenderer;
     void release();
 
-    GLuint vertex_array_ = 0, vertex_buffer_ = 0, index_buffer_ = 0;
+    GLuint vertex_array_ = 0, position_buffer_ = 0, normal_buffer_ = 0, index_buffer_ = 0;
     GLuint quality_buffer_ = 0, quality_texture_ = 0;
-    std::size_t triangles_ = 0;
+    GLuint preview_index_buffer_ = 0, preview_quality_buffer_ = 0, preview_quality_texture_ = 0;
+    std::size_t triangles_ = 0, vertices_ = 0, preview_triangles_ = 0;
     Bounds bounds_;
+    UploadCounters counters_;
 };
 
 // The shader programs and the colormap texture; one per GL context.
@@ -92,9 +115,10 @@ class MeshRenderer {
 
     // Fills the viewport with the style's backdrop gradient and clears its depth.
     void draw_background(const Viewport& viewport, const DrawStyle& style) const;
-    // Draws the mesh into the viewport (depth-tested against what the viewport holds).
+    // Draws the mesh (or its preview, when it has one) into the viewport, depth-tested
+    // against what the viewport holds.
     void draw(const MeshView& mesh, const OrbitCamera& camera, const Viewport& viewport,
-              const DrawStyle& style) const;
+              const DrawStyle& style, bool preview = false) const;
 
   private:
     struct Programs;

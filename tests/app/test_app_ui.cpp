@@ -6,10 +6,13 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <chrono>
 #include <filesystem>
+#include <thread>
 #include <vector>
 
 #include "app/headless.h"
+#include "app/view_renderer.h"
 #include "support/read_mesh.h"
 #include "support/real_data.h"
 #include "support/temp_folder.h"
@@ -41,7 +44,7 @@ std::unique_ptr<HeadlessApp> make_app(int iterations, const std::string& input =
 bool settled(const App& app) {
     const JobResults& r = app.results();
     return r.finished && r.mc && r.frame && r.mc_current && r.frame_current &&
-           r.frame->iteration == app.shown_iteration();
+           r.frame->iteration == app.shown_iteration() && r.frame->metrics_complete;
 }
 
 void click_widget(HeadlessApp& h, const std::string& id) {
@@ -224,6 +227,45 @@ TEST(AppUi, ViewsAreRedrawnOnlyWhenSomethingChanges) {
     EXPECT_FALSE(h->app().animating());
     h->tap(key::S); // smooth shading: one redraw
     EXPECT_EQ(h->app().view_render_count(), before + 1);
+}
+
+// A step to the next iteration sends the positions, normals and quality of the net, and only
+// the indices of the quads whose diagonal flipped; the Marching Cubes view is not redrawn.
+TEST(AppUi, StepUploadsPositionsOnlyAndRedrawsOneView) {
+    auto h = make_app(8);
+    ASSERT_TRUE(h->run_until(settled));
+    h->frame();
+    const ViewRenderer& views = h->app().view_renderer();
+    const int mc_draws = views.view_draws(0), net_draws = views.view_draws(1);
+    const render::UploadCounters before = views.uploads(1);
+    h->app().step(-1);
+    ASSERT_TRUE(h->run_until(settled));
+    const render::UploadCounters after = views.uploads(1);
+    EXPECT_EQ(after.uploads, before.uploads); // no new buffers
+    EXPECT_GE(after.updates, before.updates + 1);
+    const std::size_t index_bytes = h->app().results().frame->mesh.indices.size() * 4;
+    EXPECT_LT(after.index_bytes - before.index_bytes, index_bytes / 2);
+    EXPECT_EQ(views.view_draws(0), mc_draws);
+    EXPECT_GT(views.view_draws(1), net_draws);
+    // The measured version of the same frame changes no picture.
+    const int draws = views.view_draws(1);
+    for (int i = 0; i < 3; ++i) h->frame();
+    EXPECT_EQ(views.view_draws(1), draws);
+}
+
+TEST(AppUi, KeyPressedAndReleasedBetweenTwoFramesIsNotLost) {
+    auto h = make_app(6);
+    ASSERT_TRUE(h->run_until(settled));
+    h->app().key_pressed(key::Left, false); // down and up before the next frame
+    h->frame();
+    EXPECT_EQ(h->app().shown_iteration(), 5);
+    h->app().key_pressed(key::Left, false);
+    h->app().key_pressed(key::Left, false, true); // a repeat steps too
+    h->app().key_pressed(key::W, false, true);    // other keys do not repeat
+    const bool wireframe = h->app().settings().view.wireframe;
+    h->frame();
+    EXPECT_EQ(h->app().shown_iteration(), 3);
+    EXPECT_EQ(h->app().settings().view.wireframe, wireframe);
 }
 
 TEST(AppUi, CameraFollowsTheMouse) {
@@ -630,4 +672,33 @@ TEST(AppUi, AboutShowsTheVersionAndThePaper) {
     EXPECT_TRUE(h->app().about_open());
     h->tap(key::Escape);
     EXPECT_FALSE(h->app().about_open());
+}
+
+// While the camera moves, a mesh with a preview is drawn as its preview; once the camera stayed
+// still for a moment, as the whole mesh.
+TEST(AppViews, PreviewWhileTheCameraMovesThenTheWholeMesh) {
+    auto h = make_app(1); // for its GL context and a mesh
+    ASSERT_TRUE(h->run_until(settled));
+    auto mesh = std::make_shared<DisplayMesh>(*h->app().results().mc);
+    mesh->preview = std::make_shared<const PreviewMesh>(
+        make_preview(mesh->mesh, mesh->mesh.triangle_count() / 4));
+    ASSERT_FALSE(mesh->preview->indices.empty());
+    ViewRenderer views;
+    views.set_mesh(0, mesh);
+    render::OrbitCamera camera = h->app().camera();
+    const render::DrawStyle style;
+    views.render(160, 120, camera, style); // a new camera: it moved
+    EXPECT_EQ(views.preview_draws(0), 1);
+    EXPECT_EQ(views.view_draws(0), 0);
+    EXPECT_TRUE(views.needs_refine());
+    std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
+    views.render(160, 120, camera, style); // still: the whole mesh
+    EXPECT_EQ(views.view_draws(0), 1);
+    EXPECT_FALSE(views.needs_refine());
+    views.render(160, 120, camera, style); // nothing changed: nothing drawn
+    EXPECT_EQ(views.view_draws(0) + views.preview_draws(0), 2);
+    camera.orbit(0.1f, 0.0f);
+    views.render(160, 120, camera, style);
+    EXPECT_EQ(views.preview_draws(0), 2);
+    h->frame(); // the app's own target is bound again for its frame
 }

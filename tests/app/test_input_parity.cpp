@@ -35,7 +35,8 @@ SourceSpec cli_spec(const std::vector<std::string>& args) {
 
 bool settled(const App& app) {
     const JobResults& r = app.results();
-    return r.finished && r.mc && r.frame && r.mc_current && r.frame_current;
+    return r.finished && r.mc && r.frame && r.mc_current && r.frame_current &&
+           r.frame->metrics_complete;
 }
 
 bool loaded(const App& app, const SourceSpec& spec) {

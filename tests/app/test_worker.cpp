@@ -218,7 +218,7 @@ TEST(Worker, ShowsAnyIterationOnRequest) {
     for (int k : {5, 0, 6, 12, 3}) {
         worker.show_iteration(r.generation, k);
         ASSERT_TRUE(pump_until(worker, r, [k](const JobResults& x) {
-            return x.frame && x.frame->iteration == k;
+            return x.frame && x.frame->iteration == k && x.frame->metrics_complete;
         })) << k;
         JobRequest upto = job;
         upto.options.relax.max_iterations = k;
@@ -348,7 +348,7 @@ TEST(Worker, FrameMetricsAreThoseOfMeasure) {
     for (int k : {6, 2, 0}) {
         worker.show_iteration(r.generation, k);
         ASSERT_TRUE(pump_until(worker, r, [k](const JobResults& x) {
-            return x.frame && x.frame->iteration == k;
+            return x.frame && x.frame->iteration == k && x.frame->metrics_complete;
         })) << k;
         RelaxOptions upto = relax_options;
         upto.max_iterations = k;
@@ -448,4 +448,82 @@ TEST(Worker, LabelMaskJobRunsTheMethodsOnTheMask) {
         marching_cubes(*source.volume, {source.suggested_iso, source.suggested_inside}),
         *source.volume);
     EXPECT_FALSE(same_mesh(r.mc->mesh, grey_mc));
+}
+
+// The relaxation does not wait for its numbers: each iteration is announced (largest move
+// only) as it finishes and measured afterwards; the end of the job comes after every number.
+TEST(Worker, IterationsAreAnnouncedThenMeasuredThenTheJobEnds) {
+    Worker worker;
+    JobResults r;
+    JobRequest job = phantom_job("sphere", 24, std::nullopt, 6);
+    job.options.relax.epsilon = 0.0f;
+    r.start(worker.request(job));
+    std::vector<Message> all;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!r.finished && r.error.empty() && std::chrono::steady_clock::now() < deadline) {
+        for (Message& m : worker.drain()) {
+            r.apply(m);
+            all.push_back(std::move(m));
+        }
+        std::this_thread::sleep_for(1ms);
+    }
+    ASSERT_TRUE(r.finished);
+    std::vector<int> announced(7, -1), measured(7, -1);
+    int position = 0, finished_at = -1, last_frame_at = -1;
+    for (const Message& m : all) {
+        if (const auto* it = std::get_if<IterationMessage>(&m.payload)) {
+            auto& slot = it->stats.measured ? measured : announced;
+            slot[std::size_t(it->stats.iteration)] = position;
+        } else if (std::holds_alternative<FinishedMessage>(m.payload)) {
+            finished_at = position;
+        } else if (const auto* f = std::get_if<FrameMessage>(&m.payload)) {
+            if (f->mesh->last) last_frame_at = position;
+        }
+        ++position;
+    }
+    for (std::size_t k = 0; k < 7; ++k) {
+        EXPECT_GE(announced[k], 0) << k;
+        EXPECT_GT(measured[k], announced[k]) << k;
+        EXPECT_GT(finished_at, measured[k]) << k;
+        EXPECT_TRUE(r.iterations[k].measured) << k;
+    }
+    EXPECT_EQ(finished_at, position - 1);
+    ASSERT_GE(last_frame_at, 0);
+    EXPECT_TRUE(r.frame->last && r.frame->metrics_complete);
+}
+
+// A frame asked for comes at once, unmeasured, then measured with the same geometry (which
+// the views do not upload again); the quick one has the normals and the preview's share.
+TEST(Worker, AskedFrameComesQuickThenMeasured) {
+    Worker worker;
+    JobResults r;
+    JobRequest job = phantom_job("two-spheres", 24, std::nullopt, 5);
+    job.options.relax.epsilon = 0.0f;
+    r.start(worker.request(job));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    worker.show_iteration(r.generation, 2);
+    std::shared_ptr<const DisplayMesh> quick, measured;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!measured && std::chrono::steady_clock::now() < deadline) {
+        for (const Message& m : worker.drain()) {
+            r.apply(m);
+            if (const auto* f = std::get_if<FrameMessage>(&m.payload)) quick = f->mesh;
+            if (const auto* f = std::get_if<FrameMetricsMessage>(&m.payload)) measured = f->mesh;
+        }
+        std::this_thread::sleep_for(1ms);
+    }
+    ASSERT_TRUE(quick && measured);
+    EXPECT_FALSE(quick->metrics_complete);
+    EXPECT_EQ(quick->iteration, 2);
+    EXPECT_EQ(quick->normals.size(), quick->mesh.vertex_count());
+    EXPECT_EQ(quick->metrics.triangles, quick->mesh.triangle_count());
+    EXPECT_TRUE(measured->metrics_complete);
+    EXPECT_EQ(measured->geometry, quick->geometry);
+    EXPECT_EQ(r.frame, measured); // it replaced the quick one it belongs to
+    EXPECT_EQ(measured->metrics.quality.mean, r.iterations[2].quality_mean);
+    // A measured frame of another geometry does not replace the one shown.
+    auto other = std::make_shared<DisplayMesh>(*measured);
+    other->geometry = measured->geometry + 1000;
+    r.apply(Message{r.generation, FrameMetricsMessage{other}});
+    EXPECT_EQ(r.frame, measured);
 }

@@ -18,7 +18,7 @@ namespace {
 bool settled(const App& app) {
     const JobResults& r = app.results();
     return r.finished && r.mc && r.frame && r.mc_current && r.frame_current &&
-           r.frame->iteration == app.shown_iteration();
+           r.frame->iteration == app.shown_iteration() && r.frame->metrics_complete;
 }
 
 int fail(const std::string& what) {
