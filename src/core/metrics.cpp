@@ -835,6 +835,10 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
                 const glm::dvec3 to_centre = p - glm::dvec3(t.centre);
                 const double reach = best_root + double(t.radius);
                 if (glm::dot(to_centre, to_centre) >= reach * reach) continue; // sphere too far
+                // No point of a triangle is nearer than its plane (a degenerate one has a zero
+                // normal and passes).
+                const double height = glm::dot(p - glm::dvec3(t.a), glm::dvec3(t.unit_normal));
+                if (height * height >= best) continue;
                 const double d = squared_distance_to_triangle(p, t);
                 if (d < best) {
                     best = d;
