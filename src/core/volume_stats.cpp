@@ -30,10 +30,13 @@ std::uint64_t Histogram::total() const {
 }
 
 Histogram make_histogram(const Volume& volume, int bins) {
+    return make_histogram(volume, bins, value_range(volume));
+}
+
+Histogram make_histogram(const Volume& volume, int bins, ValueRange range) {
     bins = std::clamp(bins, 1, 1 << 20);
     Histogram h;
     h.counts.assign(std::size_t(bins), 0);
-    const ValueRange range = value_range(volume);
     h.lo = range.min;
     h.hi = range.max;
     const double span = double(h.hi) - double(h.lo);
@@ -81,7 +84,11 @@ float otsu_threshold(const Histogram& histogram) {
 }
 
 float suggest_iso(const Volume& volume) {
-    return otsu_threshold(make_histogram(volume, 256));
+    return suggest_iso(volume, value_range(volume));
+}
+
+float suggest_iso(const Volume& volume, ValueRange range) {
+    return otsu_threshold(make_histogram(volume, 256, range));
 }
 
 // ---- Label maps ---------------------------------------------------------------------------------

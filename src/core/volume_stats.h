@@ -24,6 +24,9 @@ struct Histogram {
     std::uint64_t total() const;
 };
 Histogram make_histogram(const Volume& volume, int bins = 256);
+// The same where the volume's value_range() is known already (a loader has it): one pass over
+// the samples instead of two.
+Histogram make_histogram(const Volume& volume, int bins, ValueRange range);
 
 // Otsu's threshold (Otsu 1979): the bin boundary that maximises the between-class variance
 // of the histogram. Returns the value between the last bin of the dark class and the first of
@@ -32,6 +35,7 @@ float otsu_threshold(const Histogram& histogram);
 
 // The iso the CLI and the app suggest when none is given: Otsu on a 256-bin histogram.
 float suggest_iso(const Volume& volume);
+float suggest_iso(const Volume& volume, ValueRange range); // range: value_range(volume)
 
 // ---- Label maps ------------------------------------------------------------------------------
 

@@ -147,7 +147,7 @@ void open_file(Source& source, const Progress& progress) {
     source.volume = std::make_shared<const Volume>(std::move(loaded.volume));
     if (!spec.labels.empty()) open_labels(source, options);
     if (!source.mask) {
-        source.suggested_iso = suggest_iso(*source.volume);
+        source.suggested_iso = suggest_iso(*source.volume, source.info->range);
         source.suggested_inside = InsideIs::Above;
         std::ostringstream reason;
         reason << "the Otsu threshold " << source.suggested_iso << " of the histogram";
@@ -170,7 +170,9 @@ Source open_source(const SourceSpec& spec, const Progress& progress) {
         open_phantom(source, name);
     else
         open_file(source, progress);
-    source.histogram = make_histogram(*source.volume, 128);
+    // A file's loader measured the range already; a phantom's is measured here.
+    source.histogram = make_histogram(
+        *source.volume, 128, source.info ? source.info->range : value_range(*source.volume));
     progress.update(1.0f);
     return source;
 }

@@ -1,10 +1,14 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "core/parallel.h"
 #include "core/phantom.h"
 #include "core/segmentation.h"
 #include "core/volume.h"
+#include "core/volume_stats.h"
 
 using namespace snert;
 
@@ -160,4 +164,40 @@ TEST(Phantom, NoiseIsSeeded) {
               make_phantom("noisy-sphere", 16, 3).volume.samples);
     EXPECT_NE(make_phantom("noisy-sphere", 16, 3).volume.samples,
               make_phantom("noisy-sphere", 16, 4).volume.samples);
+}
+
+// The range and the histogram equal a plain count, skip NaN and infinity, do not change with the
+// thread count, and the histogram of a known range (a loader's) equals the one that measures it.
+TEST(VolumeStats, RangeAndHistogramCountEveryFiniteSample) {
+    Volume v = make_volume({257, 129, 137}); // 4.5 M samples: several chunks of each pass
+    std::uint32_t state = 7u;
+    for (float& s : v.samples) {
+        state = state * 1664525u + 1013904223u;
+        s = float(state >> 8) / float(1u << 24) * 3000.0f - 1000.0f;
+    }
+    v.samples[12345] = std::numeric_limits<float>::quiet_NaN();
+    v.samples[4000000] = std::numeric_limits<float>::infinity();
+    v.samples[77] = -1500.0f;
+    v.samples[4400000] = 2500.0f;
+    Histogram serial;
+    serial.lo = -1500.0f;
+    serial.hi = 2500.0f;
+    serial.counts.assign(64, 0);
+    for (float s : v.samples)
+        if (std::isfinite(s))
+            ++serial.counts[std::min<std::size_t>(
+                63, std::size_t((double(s) + 1500.0) / 4000.0 * 64.0))];
+    for (const unsigned threads : {1u, 0u}) {
+        const ThreadLimit limit(threads);
+        const ValueRange range = value_range(v);
+        EXPECT_EQ(range.min, -1500.0f);
+        EXPECT_EQ(range.max, 2500.0f);
+        const Histogram h = make_histogram(v, 64);
+        EXPECT_EQ(h.lo, serial.lo);
+        EXPECT_EQ(h.hi, serial.hi);
+        EXPECT_EQ(h.counts, serial.counts);
+        EXPECT_EQ(h.total(), v.samples.size() - 2);
+        EXPECT_EQ(make_histogram(v, 64, range).counts, serial.counts);
+        EXPECT_EQ(suggest_iso(v, range), suggest_iso(v));
+    }
 }
