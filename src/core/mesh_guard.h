@@ -4,7 +4,8 @@
 // Nodes stay in their cells (the paper's constraint), so the triangles of a quad lie in the
 // 2 x 2 x 1 block of its four cells, and two quads can only meet inside a cell they share. For
 // each cell this checks every pair of triangles of the quads around its nodes (exactly, see
-// triangle_intersection.h), and each quad's smallest/largest angle: a quad under
+// triangle_intersection.h; a cell of one node whose star is shown embedded as a whole needs no
+// pair test), and each quad's smallest/largest angle: a quad under
 // kSliverQuality that was better before the step is refused too. The nodes of a refused pair or
 // quad take half their move, then none; the check is repeated around them until nothing is
 // refused. A step from a valid mesh therefore gives a valid mesh, at the price of moves left

@@ -135,6 +135,19 @@ template <typename T> GLsizeiptr bytes(std::span<const T> data) {
     return GLsizeiptr(data.size() * sizeof(T));
 }
 
+// Per-triangle quality into a buffer texture, fetched by gl_PrimitiveID. A buffer texture needs
+// storage, so an empty mesh gets one unused value.
+void upload_quality(GLuint buffer, GLuint texture, std::span<const float> quality) {
+    const float unused_value = 0.0f;
+    glBindBuffer(GL_TEXTURE_BUFFER, buffer);
+    glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
+                 quality.empty() ? &unused_value : quality.data(), GL_DYNAMIC_DRAW);
+    glBindTexture(GL_TEXTURE_BUFFER, texture);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, buffer);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+}
+
 } // namespace
 
 void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
@@ -172,16 +185,7 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(indices), indices.data(), GL_DYNAMIC_DRAW);
     glBindVertexArray(0);
 
-    // Per-triangle quality in a buffer texture, fetched by gl_PrimitiveID. A buffer texture
-    // needs storage, so an empty mesh gets one unused value.
-    const float unused_value = 0.0f;
-    glBindBuffer(GL_TEXTURE_BUFFER, quality_buffer_);
-    glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
-                 quality.empty() ? &unused_value : quality.data(), GL_DYNAMIC_DRAW);
-    glBindTexture(GL_TEXTURE_BUFFER, quality_texture_);
-    glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, quality_buffer_);
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    upload_quality(quality_buffer_, quality_texture_, quality);
     check_gl("MeshView::upload");
 
     triangles_ = mesh.triangle_count();
@@ -272,14 +276,7 @@ void MeshView::set_preview(std::span<const std::uint32_t> indices, std::span<con
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
     preview_triangles_ = indices.size() / 3;
     counters_.index_bytes += std::size_t(bytes(indices));
-    const float unused_value = 0.0f;
-    glBindBuffer(GL_TEXTURE_BUFFER, preview_quality_buffer_);
-    glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
-                 quality.empty() ? &unused_value : quality.data(), GL_DYNAMIC_DRAW);
-    glBindTexture(GL_TEXTURE_BUFFER, preview_quality_texture_);
-    glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, preview_quality_buffer_);
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    upload_quality(preview_quality_buffer_, preview_quality_texture_, quality);
     counters_.quality_bytes += std::size_t(bytes(quality));
     check_gl("MeshView::set_preview");
 }
