@@ -12,9 +12,10 @@ packages=(
   xvfb xauth x11-apps imagemagick
   clang clang-format libclang-rt-14-dev
   tetgen
+  python3-meshio python3-vtk9  # the fe_formats test reads the FE formats back with them
 )
 # `make bench` only (scripts/setup.sh --bench): VTK's flying edges as the peer, and numpy for
-# making the CT benchmark volume. CI's `make test` does not pay for them.
+# making the CT benchmark volume (python3-vtk9 is in the list above already, for the tests).
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-vtk9 python3-numpy)
 fi

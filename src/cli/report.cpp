@@ -82,6 +82,22 @@ double sliver_share(const MethodMetrics& m) {
 
 } // namespace
 
+nlohmann::json fe_json(const FeReadiness& fe) {
+    nlohmann::json j;
+    j["min_angle_below_15"] = fe.min_angle_below_15;
+    j["min_angle_below_30"] = fe.min_angle_below_30;
+    j["max_angle_above_120"] = fe.max_angle_above_120;
+    j["radius_ratio_min"] = fe.radius_ratio_min;
+    j["radius_ratio_max"] = fe.radius_ratio_max;
+    // Infinite with a degenerate triangle, which JSON cannot write: null then.
+    j["aspect_ratio_min"] = number_or_null(fe.aspect_ratio_min);
+    j["aspect_ratio_max"] = number_or_null(fe.aspect_ratio_max);
+    j["closed"] = fe.closed;
+    j["manifold"] = fe.manifold;
+    j["self_intersections"] = fe.self_intersections;
+    return j;
+}
+
 std::string accuracy_against(const Measured& m) {
     if (m.reference.analytic) return "the exact surface of the phantom";
     const std::string surface = "the trilinear iso-surface I = " + format_number(m.iso) +
@@ -129,6 +145,7 @@ nlohmann::json method_json(const MethodResult& r, const Measured& measured) {
     j["nonmanifold_vertices"] = m.topology.nonmanifold_vertices;
     j["self_intersections"] = m.self_intersections;
     j["fe_ready"] = m.fe_ready;
+    j["fe"] = fe_json(m.fe);
     j["oriented"] = m.topology.oriented;
     j["euler"] = m.topology.euler;
     j["area"] = m.area;
@@ -215,6 +232,29 @@ void print_fe_table(std::ostream& out, const std::vector<MethodResult>& results)
     }
 }
 
+// The FE-readiness summary, one row per method.
+void print_fe_summary_table(std::ostream& out, const std::vector<MethodResult>& results) {
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-8s %8s %8s %9s %15s %17s %6s %8s %7s\n", "method",
+                  "min<15%", "min<30%", "max>120%", "r_ratio", "aspect", "closed", "manifold",
+                  "self_x");
+    out << line;
+    for (const MethodResult& r : results) {
+        const FeReadiness& fe = r.metrics.fe;
+        char range[2][64];
+        std::snprintf(range[0], sizeof range[0], "%.3f-%.3f", fe.radius_ratio_min,
+                      fe.radius_ratio_max);
+        std::snprintf(range[1], sizeof range[1], "%.3f-%.4g", fe.aspect_ratio_min,
+                      fe.aspect_ratio_max);
+        std::snprintf(line, sizeof line, "  %-8s %8.2f %8.2f %9.2f %15s %17s %6s %8s %7zu\n",
+                      std::string(name_of(r.method)).c_str(), 100.0 * fe.min_angle_below_15,
+                      100.0 * fe.min_angle_below_30, 100.0 * fe.max_angle_above_120, range[0],
+                      range[1], yes_no(fe.closed).c_str(), yes_no(fe.manifold).c_str(),
+                      fe.self_intersections);
+        out << line;
+    }
+}
+
 } // namespace
 
 void print_table(std::ostream& out, const std::string& title,
@@ -237,6 +277,11 @@ void print_table(std::ostream& out, const std::string& title,
         << format_number(kSliverQuality)
         << " in percent; min_ang in degrees; degen: zero-area triangles; max_move: the last "
            "iteration's largest node move in voxels\n";
+    print_fe_summary_table(out, results);
+    out << "  FE readiness: percent of triangles with the smallest angle under 15 and 30 "
+           "degrees and the largest over 120 degrees; ranges (min-max) of the radius ratio 2r/R "
+           "(best 1) and of Verdict's aspect ratio (longest edge * perimeter / (4 sqrt(3) "
+           "area), best 1, inf with a degenerate triangle)\n";
 }
 
 nlohmann::json input_json(const Source& source) {

@@ -41,8 +41,14 @@ std::string accuracy_against(const Measured& measured);
 // One object per method, DESIGN.md's schema; accuracies in voxel units, null without reference.
 nlohmann::json method_json(const MethodResult& result, const Measured& measured);
 
-// Two fixed-width tables, one row per method each: quality and accuracy, then topology and
-// FE-readiness, each followed by a line saying what the columns mean and their units.
+// The FE-readiness summary as the "fe" object of method_json: the angle shares (fractions of
+// the triangles), the radius and aspect ratio ranges (the aspect ratio null when infinite, a
+// degenerate triangle), closed, manifold, self_intersections.
+nlohmann::json fe_json(const FeReadiness& fe);
+
+// Three fixed-width tables, one row per method each: quality and accuracy, topology and
+// FE-readiness, the FE summary, each followed by a line saying what the columns mean and
+// their units.
 void print_table(std::ostream& out, const std::string& title,
                  const std::vector<MethodResult>& results, const Measured& measured);
 

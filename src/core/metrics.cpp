@@ -225,11 +225,15 @@ TriangleShape triangle_shape(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     shape.quality = float(std::min(1.0, smallest / largest));
     shape.quality60 = float(std::min(1.0, smallest / (kPi / 3.0)));
     shape.min_angle = float(smallest * 180.0 / kPi);
+    shape.max_angle = float(largest * 180.0 / kPi);
     // r = A / s and R = abc / (4 A), so 2 r / R = 8 A^2 / (s abc) = 2 (2A)^2 / (s abc).
     const double la = std::sqrt(length2[0]), lb = std::sqrt(length2[1]), lc = std::sqrt(length2[2]);
     const double semi_perimeter = 0.5 * (la + lb + lc);
     shape.radius_ratio =
         float(std::min(1.0, 2.0 * twice_area * twice_area / (semi_perimeter * la * lb * lc)));
+    const double longest_length = std::sqrt(length2[longest]);
+    shape.aspect_ratio = float(
+        std::max(1.0, longest_length * 2.0 * semi_perimeter / (2.0 * std::sqrt(3.0) * twice_area)));
     return shape;
 }
 

@@ -21,6 +21,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -45,6 +46,10 @@ struct TriangleShape {
     float min_angle = 0;     // degrees (best 60, 0 when degenerate)
     float area = 0;          // the true area, also when degenerate (0 when not finite)
     bool degenerate = false; // see kDegenerateHeightRatio
+    float max_angle = 180;   // degrees (best 60, 180 when degenerate)
+    // Verdict's aspect ratio: longest edge * perimeter / (4 sqrt(3) area) (best 1, infinite
+    // when degenerate).
+    float aspect_ratio = std::numeric_limits<float>::infinity();
 };
 // Angles are computed in double as atan2(|cross|, dot), exact also for needle triangles.
 TriangleShape triangle_shape(glm::vec3 a, glm::vec3 b, glm::vec3 c);

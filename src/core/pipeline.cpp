@@ -47,6 +47,7 @@ MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
     m.self_intersections = count_self_intersections(world);
     m.fe_ready = m.triangles > 0 && m.boundary_edges_off_border == 0 && m.topology.manifold &&
                  m.self_intersections == 0 && m.quality.degenerate == 0;
+    m.fe = fe_readiness(world, m.topology, m.self_intersections);
     m.area = surface_area(world);
     m.volume = enclosed_volume(world);
     // In index space, the reference's unit (the world volume differs by the voxel volume).

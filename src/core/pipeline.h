@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "fe_readiness.h"
 #include "marching_cubes.h"
 #include "mesh.h"
 #include "names.h"
@@ -60,6 +61,8 @@ struct MethodMetrics {
     std::size_t self_intersections = 0;        // intersecting triangle pairs, as TetGen -d (best 0)
     bool fe_ready = false;                     // all of the above, see the comment on the struct
     double area = 0, volume = 0;               // world units
+    // The FE-readiness summary: angle shares, ratio ranges, and the checks above again.
+    FeReadiness fe;
     // (enclosed volume - reference volume) / reference volume, both in index space (voxels^3);
     // empty where the reference's volume is unknown (MeasureOptions::reference_volume).
     std::optional<double> volume_error;

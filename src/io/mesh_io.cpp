@@ -1,10 +1,11 @@
-// Mesh files: binary STL, Wavefront OBJ, binary PLY, OFF and legacy VTK polydata, written
-// atomically.
+// Mesh files: binary STL, Wavefront OBJ, binary PLY, OFF, legacy VTK polydata, Gmsh MSH 4.1 and
+// Abaqus INP, written atomically.
 //
 // This work is based on the published format descriptions: the binary STL layout (80-byte
 // header, uint32 count, 50 bytes per facet), Paul Bourke's PLY and OFF notes, the Wavefront OBJ
-// appendix and the VTK file formats document (legacy 3.0 polydata). Numbers are written with
-// std::to_chars, the shortest text that reads back to the same float, so text formats
+// appendix, the VTK file formats document (legacy 3.0 polydata), the Gmsh reference manual's
+// "MSH file format" (version 4.1) and the Abaqus keywords reference (*NODE, *ELEMENT). Numbers are
+// written with std::to_chars, the shortest text that reads back to the same float, so text formats
 // round-trip exactly and independently of the locale. (The tests read the files back with
 // tests/support/read_mesh.h.)
 #include "mesh_io.h"
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "atomic_file.h"
+#include "core/triangle_fields.h"
 
 namespace snert {
 namespace {
@@ -185,14 +187,90 @@ void write_off(std::ostream& os, const Mesh& mesh) {
     write_counted_triangles(out, mesh.indices);
 }
 
-// Legacy 3.0 layout (POLYGONS with counts inline), which every VTK version and ParaView reads.
-void write_vtk(std::ostream& os, const Mesh& mesh) {
+// Float values as one VTK cell array (SCALARS with the default lookup table), 9 to a line.
+void write_vtk_cell_array(TextOut& out, std::string_view name, const std::vector<float>& values) {
+    out << "SCALARS " << name << " float 1\nLOOKUP_TABLE default\n";
+    for (std::size_t t = 0; t < values.size(); ++t)
+        out << values[t] << ((t % 9 == 8 || t + 1 == values.size()) ? '\n' : ' ');
+}
+
+// Legacy 3.0 layout (POLYGONS with counts inline), which every VTK version and ParaView reads,
+// with per-triangle cell data for ParaView to colour by.
+void write_vtk(std::ostream& os, const Mesh& mesh, const MeshWriteOptions& options,
+               const std::string& name) {
     TextOut out(os);
-    out << "# vtk DataFile Version 3.0\nsnert mesh\nASCII\nDATASET POLYDATA\n"
+    out << "# vtk DataFile Version 3.0\nsnert mesh " << name << "\nASCII\nDATASET POLYDATA\n"
         << "POINTS " << mesh.positions.size() << " float\n";
     for (const glm::vec3& p : mesh.positions) out << p << '\n';
     out << "POLYGONS " << mesh.triangle_count() << ' ' << 4 * mesh.triangle_count() << '\n';
     write_counted_triangles(out, mesh.indices);
+    if (mesh.triangle_count() == 0) return;
+    const TriangleFields fields = triangle_fields(mesh);
+    out << "CELL_DATA " << mesh.triangle_count() << '\n';
+    write_vtk_cell_array(out, "quality", fields.quality);
+    write_vtk_cell_array(out, "min_angle", fields.min_angle);
+    write_vtk_cell_array(out, "max_angle", fields.max_angle);
+    if (!options.distance.empty()) write_vtk_cell_array(out, "distance", options.distance);
+}
+
+// Gmsh 4.1: every node on one discrete surface (entity 2/1) carrying physical group 1, the
+// triangles (element type 2) in one block on it, so Gmsh can classify the surface and fill it.
+void write_msh(std::ostream& os, const Mesh& mesh, const std::string& name) {
+    TextOut out(os);
+    const std::size_t nodes = mesh.positions.size(), triangles = mesh.triangle_count();
+    const Bounds box = mesh_bounds(mesh);
+    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+        << "$PhysicalNames\n1\n2 1 \"" << name << "\"\n$EndPhysicalNames\n"
+        << "$Entities\n0 0 1 0\n1 " << double(box.min.x) << ' ' << double(box.min.y) << ' '
+        << double(box.min.z) << ' ' << double(box.max.x) << ' ' << double(box.max.y) << ' '
+        << double(box.max.z) << " 1 1 0\n$EndEntities\n";
+    // numEntityBlocks numNodes minNodeTag maxNodeTag, then the block header and the tags.
+    out << "$Nodes\n"
+        << std::size_t(nodes > 0) << ' ' << nodes << ' ' << std::size_t(nodes > 0) << ' ' << nodes
+        << '\n';
+    if (nodes) {
+        out << "2 1 0 " << nodes << '\n';
+        for (std::size_t v = 1; v <= nodes; ++v) out << v << '\n';
+        for (const glm::vec3& p : mesh.positions)
+            out << double(p.x) << ' ' << double(p.y) << ' ' << double(p.z) << '\n';
+    }
+    out << "$EndNodes\n$Elements\n"
+        << std::size_t(triangles > 0) << ' ' << triangles << ' ' << std::size_t(triangles > 0)
+        << ' ' << triangles << '\n';
+    if (triangles) {
+        out << "2 1 2 " << triangles << '\n';
+        const std::vector<std::uint32_t>& i = mesh.indices;
+        for (std::size_t t = 0; t < triangles; ++t) // tags count from 1
+            out << t + 1 << ' ' << i[3 * t] + 1ull << ' ' << i[3 * t + 1] + 1ull << ' '
+                << i[3 * t + 2] + 1ull << '\n';
+    }
+    out << "$EndElements\n";
+}
+
+// Abaqus input without parts (a flat model): nodes and elements numbered from 1, the triangles
+// in one element set. Lines stay far under Abaqus' 256 characters.
+void write_inp(std::ostream& os, const Mesh& mesh, const MeshWriteOptions& options,
+               const std::string& name) {
+    TextOut out(os);
+    out << "*HEADING\nsurface mesh " << name << " written by snert\n*NODE\n";
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const glm::vec3 p = mesh.positions[v];
+        out << v + 1 << ", " << double(p.x) << ", " << double(p.y) << ", " << double(p.z) << '\n';
+    }
+    const std::string type = options.abaqus_element == AbaqusElement::S3 ? "S3" : "SFM3D3";
+    out << "*ELEMENT, TYPE=" << type << ", ELSET=" << name << '\n';
+    const std::vector<std::uint32_t>& i = mesh.indices;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        out << t + 1 << ", " << i[3 * t] + 1ull << ", " << i[3 * t + 1] + 1ull << ", "
+            << i[3 * t + 2] + 1ull << '\n';
+}
+
+// A name every format accepts unquoted: a letter first, then letters, digits and '_'.
+std::string format_safe_name(const std::string& name) {
+    if (name.empty()) return "surface";
+    std::string safe = std::isalpha((unsigned char)name.front()) ? "" : "surface_";
+    for (char c : name) safe.push_back(std::isalnum((unsigned char)c) || c == '_' ? c : '_');
+    return safe;
 }
 
 std::string lower_extension(const std::string& path) {
@@ -206,24 +284,46 @@ std::string lower_extension(const std::string& path) {
 
 } // namespace
 
+namespace {
+constexpr Named<AbaqusElement> kAbaqusElements[] = {
+    {AbaqusElement::S3, "s3", "S3 (shell)"},
+    {AbaqusElement::Sfm3d3, "sfm3d3", "SFM3D3 (surface)"},
+};
+} // namespace
+
+std::span<const Named<AbaqusElement>> name_table(AbaqusElement) {
+    return kAbaqusElements;
+}
+
+const std::vector<std::string> kMeshExtensions = {".stl", ".obj", ".ply", ".off",
+                                                  ".vtk", ".msh", ".inp"};
+
 MeshFormat mesh_format_from_path(const std::string& path) {
     const std::string ext = lower_extension(path);
-    if (ext == ".stl") return MeshFormat::Stl;
-    if (ext == ".obj") return MeshFormat::Obj;
-    if (ext == ".ply") return MeshFormat::Ply;
-    if (ext == ".off") return MeshFormat::Off;
-    if (ext == ".vtk") return MeshFormat::Vtk;
+    for (std::size_t k = 0; k < kMeshExtensions.size(); ++k)
+        if (ext == kMeshExtensions[k]) return MeshFormat(k);
+    std::string choices;
+    for (std::size_t k = 0; k < kMeshExtensions.size(); ++k) {
+        choices.append(k == 0 ? "" : k + 1 == kMeshExtensions.size() ? " or " : ", ");
+        choices.append(kMeshExtensions[k]);
+    }
     throw std::invalid_argument(path + ": unknown mesh format " +
                                 (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-                                "; use .stl, .obj, .ply, .off or .vtk");
+                                "; use " + choices);
 }
 
-void write_mesh(const Mesh& mesh, const std::string& path) {
-    write_mesh(mesh, path, mesh_format_from_path(path));
+void write_mesh(const Mesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+    write_mesh(mesh, path, mesh_format_from_path(path), options);
 }
 
-void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
+void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format,
+                const MeshWriteOptions& options) {
     check_mesh_for_writing(mesh, path);
+    if (!options.distance.empty() && options.distance.size() != mesh.triangle_count())
+        throw std::invalid_argument(path + ": " + std::to_string(options.distance.size()) +
+                                    " distances for " + std::to_string(mesh.triangle_count()) +
+                                    " triangles");
+    const std::string name = format_safe_name(options.name);
     write_file_atomically(path, [&](std::ostream& os) {
         switch (format) {
         case MeshFormat::Stl:
@@ -239,7 +339,13 @@ void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
             write_off(os, mesh);
             break;
         case MeshFormat::Vtk:
-            write_vtk(os, mesh);
+            write_vtk(os, mesh, options, name);
+            break;
+        case MeshFormat::Msh:
+            write_msh(os, mesh, name);
+            break;
+        case MeshFormat::Inp:
+            write_inp(os, mesh, options, name);
             break;
         }
     });

@@ -136,7 +136,7 @@ expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --i
 grep -q "gradient" "$tmp/out" || fail "--mode gradient row missing"
 
 # export: every format, written whole; an unwritable folder fails cleanly.
-for ext in stl obj ply off vtk; do
+for ext in stl obj ply off vtk msh inp; do
     expect_exit 0 "wrote" -- "$SNERT" export phantom:sphere --size 16 --method snert --out "$tmp/m.$ext"
     [ -s "$tmp/m.$ext" ] || fail "export .$ext is empty"
 done

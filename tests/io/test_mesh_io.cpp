@@ -17,6 +17,7 @@
 
 #include "io/atomic_file.h"
 #include "core/metrics.h"
+#include "core/triangle_fields.h"
 #include "io/mesh_io.h"
 #include "support/read_mesh.h"
 
@@ -254,8 +255,10 @@ TEST(MeshFormat, FromExtension) {
     EXPECT_EQ(mesh_format_from_path("m.tar.ply"), MeshFormat::Ply);
     EXPECT_EQ(mesh_format_from_path("m.off"), MeshFormat::Off);
     EXPECT_EQ(mesh_format_from_path("m.VTK"), MeshFormat::Vtk);
+    EXPECT_EQ(mesh_format_from_path("fe/m.msh"), MeshFormat::Msh);
+    EXPECT_EQ(mesh_format_from_path("m.INP"), MeshFormat::Inp);
     expect_error<std::invalid_argument>([] { mesh_format_from_path("shape.stp"); },
-                                        {"shape.stp", ".stp", ".stl"});
+                                        {"shape.stp", ".stp", ".stl", ".vtk, .msh or .inp"});
     expect_error<std::invalid_argument>([] { mesh_format_from_path("dir.stl/shape"); },
                                         {"dir.stl/shape", "no extension"});
 }
@@ -384,6 +387,110 @@ TEST_F(MeshIo, WriteFailuresLeaveNothing) {
                                         {path("bad.obj"), "99"});
     expect_error<std::invalid_argument>([&] { write_mesh(mesh, path("m.xyz")); }, {"m.xyz"});
     EXPECT_TRUE(files().empty());
+}
+
+// --- The FE formats ---------------------------------------------------------------------------
+
+// Two triangles whose text is known: one coordinate (0.1f) is not a short double.
+Mesh two_triangles() {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {2, 0, 0}, {0, 3, 0}, {0.1f, 0, 1}};
+    m.indices = {0, 1, 2, 0, 3, 1};
+    return m;
+}
+
+TEST_F(MeshIo, GmshLayout) {
+    MeshWriteOptions options;
+    options.name = "snert";
+    write_mesh(two_triangles(), path("m.msh"), options);
+    EXPECT_EQ(read_text(path("m.msh")), "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                                        "$PhysicalNames\n1\n2 1 \"snert\"\n$EndPhysicalNames\n"
+                                        "$Entities\n0 0 1 0\n1 0 0 0 2 3 1 1 1 0\n$EndEntities\n"
+                                        "$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n"
+                                        "0 0 0\n2 0 0\n0 3 0\n0.10000000149011612 0 1\n"
+                                        "$EndNodes\n$Elements\n1 2 1 2\n2 1 2 2\n"
+                                        "1 1 2 3\n2 1 4 2\n$EndElements\n");
+    // No triangles: empty blocks, still a file Gmsh reads.
+    write_mesh(Mesh{}, path("empty.msh"));
+    const std::string empty = read_text(path("empty.msh"));
+    EXPECT_NE(empty.find("$Nodes\n0 0 0 0\n$EndNodes\n$Elements\n0 0 0 0\n$EndElements\n"),
+              std::string::npos);
+}
+
+TEST_F(MeshIo, AbaqusLayoutAndElementType) {
+    MeshWriteOptions options;
+    options.name = "mc";
+    write_mesh(two_triangles(), path("s3.inp"), options);
+    const std::string s3 = read_text(path("s3.inp"));
+    EXPECT_EQ(s3, "*HEADING\nsurface mesh mc written by snert\n*NODE\n"
+                  "1, 0, 0, 0\n2, 2, 0, 0\n3, 0, 3, 0\n4, 0.10000000149011612, 0, 1\n"
+                  "*ELEMENT, TYPE=S3, ELSET=mc\n1, 1, 2, 3\n2, 1, 4, 2\n");
+    options.abaqus_element = AbaqusElement::Sfm3d3;
+    write_mesh(two_triangles(), path("sfm.inp"), options);
+    std::string expected = s3;
+    expected.replace(expected.find("TYPE=S3"), 7, "TYPE=SFM3D3");
+    EXPECT_EQ(read_text(path("sfm.inp")), expected); // only the element type differs
+    EXPECT_EQ(parse_name<AbaqusElement>("sfm3d3"), AbaqusElement::Sfm3d3);
+    EXPECT_EQ(name_of(AbaqusElement::S3), "s3");
+}
+
+TEST_F(MeshIo, SurfaceNamesAreMadeSafe) {
+    MeshWriteOptions options;
+    for (const auto& [given, written] :
+         {std::pair<std::string, std::string>{"my part-1", "my_part_1"},
+          {"3d", "surface_3d"},
+          {"", "surface"}}) {
+        options.name = given;
+        write_mesh(two_triangles(), path("n.inp"), options);
+        EXPECT_NE(read_text(path("n.inp")).find("ELSET=" + written + "\n"), std::string::npos)
+            << given;
+    }
+}
+
+TEST_F(MeshIo, VtkCellDataForParaView) {
+    const Mesh mesh = grid_mesh(70); // several output buffers
+    MeshWriteOptions options;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        options.distance.push_back(0.001f * float(t % 997));
+    write_mesh(mesh, path("c.vtk"), options);
+    const VtkCellData cells = read_vtk_cell_data(path("c.vtk"));
+    const TriangleFields fields = triangle_fields(mesh);
+    ASSERT_EQ(cells.size(), 4u);
+    EXPECT_EQ(cells.at("quality"), fields.quality); // exact: shortest float text
+    EXPECT_EQ(cells.at("min_angle"), fields.min_angle);
+    EXPECT_EQ(cells.at("max_angle"), fields.max_angle);
+    EXPECT_EQ(cells.at("distance"), options.distance);
+    EXPECT_EQ(read_mesh(path("c.vtk")).indices, mesh.indices);
+
+    write_mesh(mesh, path("plain.vtk")); // no distance given: no such array
+    EXPECT_EQ(read_vtk_cell_data(path("plain.vtk")).count("distance"), 0u);
+    EXPECT_EQ(read_vtk_cell_data(path("plain.vtk")).size(), 3u);
+
+    options.distance.pop_back();
+    expect_error<std::invalid_argument>([&] { write_mesh(mesh, path("short.vtk"), options); },
+                                        {path("short.vtk"), "distances for"});
+    EXPECT_FALSE(fs::exists(path("short.vtk")));
+}
+
+TEST_F(MeshIo, FeFormatsFailAtomically) {
+    const Mesh mesh = awkward_octahedron();
+    for (const char* name : {"m.msh", "m.inp", "m.vtk"}) {
+        expect_error<std::runtime_error>(
+            [&] { write_mesh(mesh, path(std::string("missing/") + name)); },
+            {path(std::string("missing/") + name)});
+        fs::create_directory(path(std::string("dir-") + name));
+        expect_error<std::runtime_error>(
+            [&] { write_mesh(mesh, path(std::string("dir-") + name)); },
+            {path(std::string("dir-") + name)});
+        // An old file stays as it was when the new one cannot be written.
+        write_text(path(name), "old");
+        Mesh bad = mesh;
+        bad.indices.back() = 99;
+        expect_error<std::invalid_argument>([&] { write_mesh(bad, path(name)); }, {"99"});
+        EXPECT_EQ(read_text(path(name)), "old");
+    }
+    // Only what the test made: the three folders and the three old files, no temporary file.
+    EXPECT_EQ(files().size(), 6u);
 }
 
 // read_mesh reads what snert writes and nothing else: files from other tools are refused, not

@@ -300,7 +300,7 @@ Mesh read_off(const std::string& data, const std::string& path) {
 
 // ---- Legacy VTK polydata, ASCII: POINTS, then POLYGONS with inline counts (the 3.0 layout) ----
 
-Mesh read_vtk(const std::string& data, const std::string& path) {
+Mesh read_vtk_with_cells(const std::string& data, const std::string& path, VtkCellData* cells_out) {
     TextScanner in(data, path);
     if (in.line().rfind("# vtk DataFile", 0) != 0) in.fail("not a legacy VTK file");
     in.skip_line(); // title
@@ -340,11 +340,38 @@ Mesh read_vtk(const std::string& data, const std::string& path) {
                 }
             }
             if (used != size) in.fail("cells smaller than the announced array size");
+        } else if (section == "CELL_DATA") {
+            // Float SCALARS with the default lookup table, one value per triangle each.
+            const std::size_t n = in.count("cell data count", 2);
+            if (n != mesh.triangle_count())
+                in.fail("CELL_DATA " + std::to_string(n) + " for " +
+                        std::to_string(mesh.triangle_count()) + " triangles");
+            std::size_t arrays = 0;
+            for (; in.remaining() > 0 && arrays < 64; ++arrays) {
+                const std::string_view keyword = in.word();
+                if (keyword.empty()) break;
+                if (keyword != "SCALARS")
+                    in.fail("unknown cell data '" + std::string(keyword) + "'");
+                const std::string name(in.word());
+                in.expect("float");
+                in.expect("1");
+                in.expect("LOOKUP_TABLE");
+                in.expect("default");
+                std::vector<float> values(n);
+                for (float& v : values) v = in.real("cell value");
+                if (cells_out && !cells_out->emplace(name, std::move(values)).second)
+                    in.fail("cell array '" + name + "' twice");
+            }
+            if (arrays == 0) in.fail("CELL_DATA without arrays");
         } else {
             in.fail("unknown section '" + std::string(section) + "'");
         }
     }
     return mesh;
+}
+
+Mesh read_vtk(const std::string& data, const std::string& path) {
+    return read_vtk_with_cells(data, path, nullptr);
 }
 
 // ---- PLY: the header snert writes, then the binary little-endian vertices and faces ---------
@@ -438,6 +465,14 @@ Mesh read_ply(const std::string& data, const std::string& path) {
 
 } // namespace
 
+VtkCellData read_vtk_cell_data(const std::string& path) {
+    if (mesh_format_from_path(path) != MeshFormat::Vtk)
+        throw std::invalid_argument(path + ": not a .vtk file");
+    VtkCellData cells;
+    read_vtk_with_cells(read_whole_file(path), path, &cells);
+    return cells;
+}
+
 Mesh read_mesh(const std::string& path) {
     Mesh (*reader)(const std::string&, const std::string&) = nullptr;
     switch (mesh_format_from_path(path)) { // the writer's own rule; throws for other extensions
@@ -456,6 +491,10 @@ Mesh read_mesh(const std::string& path) {
     case MeshFormat::Vtk:
         reader = read_vtk;
         break;
+    case MeshFormat::Msh:
+    case MeshFormat::Inp:
+        // Read back by independent readers (meshio) in tests/cli/fe_formats_test.py.
+        throw std::invalid_argument(path + ": read_mesh does not read the FE formats");
     }
     Mesh mesh = reader(read_whole_file(path), path);
     for (std::uint32_t i : mesh.indices)
