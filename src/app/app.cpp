@@ -12,7 +12,7 @@
 #include <imgui.h>
 
 #include "core/phantom.h"
-#include "io/mesh_io.h"
+#include "io/mesh_export.h"
 #include "path_completion.h"
 #include "render/panels.h"
 #include "view_renderer.h"
@@ -611,19 +611,20 @@ bool App::save_screenshot(const render::Image& window_image, const ScreenshotReq
     return true;
 }
 
-std::vector<std::string> App::export_meshes(const std::string& base, const std::string& format) {
+std::vector<std::string> App::export_meshes(const std::string& base, const std::string& format,
+                                            AbaqusElement element) {
     std::vector<std::string> written;
-    if (results_.mc) {
-        const std::string path = base + "-mc." + format;
-        write_mesh(results_.mc->mesh, path);
+    auto write = [&](const DisplayMesh& shown, const std::string& path) {
+        if (results_.source)
+            export_mesh(shown.mesh, shown.method, *results_.source, results_.iso, path, element);
+        else
+            write_mesh(shown.mesh, path);
         written.push_back(path);
-    }
-    if (results_.frame) {
-        const std::string path = base + "-" + std::string(name_of(results_.frame->method)) + "-" +
-                                 std::to_string(results_.frame->iteration) + "." + format;
-        write_mesh(results_.frame->mesh, path);
-        written.push_back(path);
-    }
+    };
+    if (results_.mc) write(*results_.mc, base + "-mc." + format);
+    if (results_.frame)
+        write(*results_.frame, base + "-" + std::string(name_of(results_.frame->method)) + "-" +
+                                   std::to_string(results_.frame->iteration) + "." + format);
     return written;
 }
 

@@ -38,6 +38,7 @@
 
 #include "core/pipeline.h"
 #include "io/dicom_series.h"
+#include "io/mesh_io.h"
 #include "io/source.h"
 #include "job_results.h"
 #include "render/camera.h"
@@ -147,9 +148,11 @@ class App {
     // Replaces the parameters; a change restarts the computation at the next frame.
     void set_parameters(const Parameters& parameters);
     void request_screenshot(const std::string& path);
-    // Writes the shown meshes as <base>-mc.<format> and <base>-<method>-<k>.<format>;
+    // Writes the shown meshes as <base>-mc.<format> and <base>-<method>-<k>.<format> with
+    // io's export_mesh, as `snert export` does (`element`: the triangles' type in an .inp);
     // returns the files written. Throws std::runtime_error naming a file that failed.
-    std::vector<std::string> export_meshes(const std::string& base, const std::string& format);
+    std::vector<std::string> export_meshes(const std::string& base, const std::string& format,
+                                           AbaqusElement element = AbaqusElement::S3);
 
     // --- State for the glue and the tests ---
     const Settings& settings() const { return settings_; }
@@ -287,7 +290,7 @@ class App {
     bool about_open_ = false;
     bool screenshot_dialog_ = false, export_dialog_ = false;
     std::string screenshot_path_, export_base_;
-    int export_format_ = 0;
+    int export_format_ = 0, export_abaqus_element_ = 0;
     bool quit_requested_ = false;
     std::optional<ScreenshotRequest> screenshot_request_;
     bool screenshot_pending_ = false;

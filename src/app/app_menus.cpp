@@ -15,7 +15,7 @@ namespace snert::app {
 
 namespace {
 
-constexpr const char* kExportFormats[] = {"stl", "obj", "ply", "off", "vtk"};
+constexpr const char* kExportFormats[] = {"stl", "obj", "ply", "off", "vtk", "msh", "inp"};
 
 #ifndef SNERT_VERSION
 #define SNERT_VERSION "unknown"
@@ -316,6 +316,21 @@ void App::draw_dialogs() {
         ImGui::SetNextItemWidth(8.0f * fonts_.size);
         ImGui::Combo("Format", &export_format_, kExportFormats, IM_ARRAYSIZE(kExportFormats));
         const std::string format = kExportFormats[export_format_];
+        const auto elements = name_table(AbaqusElement{});
+        if (format == "inp") {
+            ImGui::SameLine();
+            ImGui::SetNextItemWidth(12.0f * fonts_.size);
+            const std::string preview(elements[std::size_t(export_abaqus_element_)].label);
+            if (ImGui::BeginCombo("Element", preview.c_str())) {
+                for (std::size_t k = 0; k < elements.size(); ++k)
+                    if (ImGui::Selectable(std::string(elements[k].label).c_str(),
+                                          int(k) == export_abaqus_element_))
+                        export_abaqus_element_ = int(k);
+                ImGui::EndCombo();
+            }
+        } else if (format == "vtk") {
+            ImGui::TextUnformatted("cell data: quality, min_angle, max_angle, distance");
+        }
         if (results_.mc) ImGui::BulletText("%s-mc.%s", export_base_.c_str(), format.c_str());
         if (results_.frame)
             ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(),
@@ -323,7 +338,8 @@ void App::draw_dialogs() {
                               results_.frame->iteration, format.c_str());
         if (ImGui::Button("Export")) {
             try {
-                const auto written = export_meshes(export_base_, format);
+                const auto written = export_meshes(
+                    export_base_, format, elements[std::size_t(export_abaqus_element_)].value);
                 notice("exported " + std::to_string(written.size()) +
                        " meshes: " + (written.empty() ? std::string() : written.back()));
             } catch (const std::exception& e) {

@@ -308,8 +308,8 @@ std::string accuracy_or_na(const MethodMetrics& m, double Accuracy::*field) {
 }
 
 // The rows: size, quality, smoothness, the three accuracies (which points are measured is in
-// the label) and the volume error, then what a finite-element mesher needs, then the
-// relaxation's end.
+// the label) and the volume error, then what a finite-element mesher needs (the checks and the
+// FE-readiness summary), then the relaxation's end.
 const std::vector<Measure>& measures() {
     static const std::vector<Measure> list = {
         {"Triangles", [](const MethodMetrics& m, bool) { return format_count(m.triangles); }},
@@ -355,6 +355,28 @@ const std::vector<Measure>& measures() {
         {"Self-intersections",
          [](const MethodMetrics& m, bool) { return format_count(m.self_intersections); }},
         {"FE-ready", [](const MethodMetrics& m, bool) { return yes_no(m.fe_ready); }},
+        {"Min angle < 15\xC2\xB0",
+         [](const MethodMetrics& m, bool) {
+             return format("%.2f %%", 100.0 * m.fe.min_angle_below_15);
+         }},
+        {"Min angle < 30\xC2\xB0",
+         [](const MethodMetrics& m, bool) {
+             return format("%.2f %%", 100.0 * m.fe.min_angle_below_30);
+         }},
+        {"Max angle > 120\xC2\xB0",
+         [](const MethodMetrics& m, bool) {
+             return format("%.2f %%", 100.0 * m.fe.max_angle_above_120);
+         }},
+        {"Radius ratio range",
+         [](const MethodMetrics& m, bool) {
+             return format("%.2f", m.fe.radius_ratio_min) + "-" +
+                    format("%.2f", m.fe.radius_ratio_max);
+         }},
+        {"Aspect ratio range",
+         [](const MethodMetrics& m, bool) {
+             return format("%.2f", m.fe.aspect_ratio_min) + "-" +
+                    format("%.3g", m.fe.aspect_ratio_max);
+         }},
         {"Euler characteristic",
          [](const MethodMetrics& m, bool) { return std::to_string(m.topology.euler); }},
         {"Iterations",

@@ -8,6 +8,10 @@
 #include <cstdint>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numeric>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -324,6 +328,22 @@ TEST(AppUi, ScreenshotAndExportWriteFiles) {
     EXPECT_EQ(read_mesh(written[0]).triangle_count(), app.results().mc->mesh.triangle_count());
     EXPECT_EQ(read_mesh(written[1]).triangle_count(), app.results().frame->mesh.triangle_count());
     EXPECT_EQ(written[1], folder + "/sphere-snert-3.ply");
+
+    // The FE formats through the same function as `snert export`: the VTK's distances are the
+    // face accuracy the app measured, an .inp has the element type chosen.
+    const auto vtk = app.export_meshes(folder + "/sphere", "vtk");
+    ASSERT_EQ(vtk.size(), 2u);
+    const VtkCellData cells = read_vtk_cell_data(vtk[0]);
+    ASSERT_EQ(cells.count("distance"), 1u);
+    const std::vector<float>& d = cells.at("distance");
+    ASSERT_EQ(d.size(), app.results().mc->mesh.triangle_count());
+    ASSERT_TRUE(app.results().mc->metrics.accuracy);
+    EXPECT_NEAR(std::accumulate(d.begin(), d.end(), 0.0) / double(d.size()),
+                app.results().mc->metrics.accuracy->faces_mean, 1e-5);
+    const auto inp = app.export_meshes(folder + "/sphere", "inp", AbaqusElement::Sfm3d3);
+    std::ifstream in(inp[1]);
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_NE(text.find("*ELEMENT, TYPE=SFM3D3, ELSET=snert\n"), std::string::npos);
 }
 
 TEST(AppUi, DroppedFilesOpen) {
