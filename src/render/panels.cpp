@@ -346,12 +346,15 @@ const std::vector<Measure>& measures() {
          }},
         {"Degenerate",
          [](const MethodMetrics& m, bool) { return format_count(m.quality.degenerate); }},
-        {"Closed", [](const MethodMetrics& m, bool) { return yes_no(m.topology.watertight); }},
-        {"Manifold", [](const MethodMetrics& m, bool) { return yes_no(m.topology.manifold); }},
-        {"Non-manifold edges",
-         [](const MethodMetrics& m, bool) { return format_count(m.topology.nonmanifold_edges); }},
-        {"Non-manifold verts", [](const MethodMetrics& m,
-                                  bool) { return format_count(m.topology.nonmanifold_vertices); }},
+        {"Closed / manifold",
+         [](const MethodMetrics& m, bool) {
+             return yes_no(m.topology.watertight) + " / " + yes_no(m.topology.manifold);
+         }},
+        {"Non-manifold e / v",
+         [](const MethodMetrics& m, bool) {
+             return format_count(m.topology.nonmanifold_edges) + " / " +
+                    format_count(m.topology.nonmanifold_vertices);
+         }},
         {"Self-intersections",
          [](const MethodMetrics& m, bool) { return format_count(m.self_intersections); }},
         {"FE-ready", [](const MethodMetrics& m, bool) { return yes_no(m.fe_ready); }},
@@ -379,12 +382,11 @@ const std::vector<Measure>& measures() {
          }},
         {"Euler characteristic",
          [](const MethodMetrics& m, bool) { return std::to_string(m.topology.euler); }},
-        {"Iterations",
+        {"Iterations, conv.",
          [](const MethodMetrics& m, bool net) {
-             return net ? std::to_string(m.iterations) : std::string("n/a");
+             return net ? std::to_string(m.iterations) + ", " + yes_no(m.converged)
+                        : std::string("n/a");
          }},
-        {"Converged", [](const MethodMetrics& m,
-                         bool net) { return net ? yes_no(m.converged) : std::string("n/a"); }},
         {"Last largest move",
          [](const MethodMetrics& m, bool net) {
              return net ? format("%.1e", m.final_max_move) : std::string("n/a");
