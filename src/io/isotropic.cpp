@@ -130,14 +130,18 @@ IsotropicGrid isotropic_grid(const std::string& name, const Volume& volume, floa
     grid.origin = volume.origin;
     grid.direction = volume.direction;
     for (int a = 0; a < 3; ++a) {
-        // Steps of the new edge that fit in the stored extent; the small allowance keeps an
-        // extent that is a multiple of the edge from losing its last sample to rounding.
+        // Steps of the new edge that fit in the stored extent. A count within a few float
+        // roundings (of the spacing and the edge) of a whole number is that number, so an
+        // extent that is a multiple of the edge keeps its last sample; ITK's interpolator reads
+        // the border up to half a stored voxel beyond the last sample.
         const double steps = double(volume.dims[a] - 1) * double(volume.spacing[a]) / edge;
         if (!(steps < double(detail::max_axis_extent - 1)))
             throw std::runtime_error(what_text(name, volume, edge) + " would need more than " +
                                      std::to_string(detail::max_axis_extent) +
                                      " samples along an axis");
-        grid.dims[a] = int(std::floor(steps + 1e-4)) + 1;
+        const double whole = std::round(steps);
+        const bool multiple = std::abs(steps - whole) <= 4e-7 * steps + 1e-6;
+        grid.dims[a] = int(multiple ? whole : std::floor(steps)) + 1;
     }
     if (sample_count(grid.dims) > std::numeric_limits<std::size_t>::max() / (2 * sizeof(float)))
         throw std::runtime_error(what_text(name, volume, edge) + " would become " +
