@@ -73,6 +73,11 @@ struct InputArgs {
 // that reads a volume accepts, the app included.
 void add_input_options(CLI::App& command, InputArgs& args, bool optional_input = false);
 
+// --isotropic [MM] into `text` (empty: the smallest spacing); add_input_options declares it,
+// and bench beside its --volume. isotropic_edge: what it asks for (empty: not given).
+CLI::Option* add_isotropic_option(CLI::App& command, std::string& text);
+std::optional<float> isotropic_edge(const CLI::Option* option, const std::string& text);
+
 // What the input options ask for.
 struct InputChoice {
     SourceSpec spec;

@@ -67,6 +67,7 @@ expect_exit 0 "resampled to 16x16x16, cubic voxels of 1 mm" -- "$SNERT" compare 
 expect_exit 0 "cubic voxels of 0.5 mm" -- "$SNERT" compare "${ball[@]}" --isotropic 0.5 --mode snert --iterations 5
 expect_exit 2 "--isotropic: applies to volume files, not to phantom:sphere" -- "$SNERT" compare phantom:sphere --isotropic
 expect_exit 2 "--isotropic: 'abc' is not a positive number" -- "$SNERT" compare "${ball[@]}" --isotropic abc
+expect_exit 2 "--isotropic requires --volume" -- "$SNERT" bench --isotropic
 expect_exit 2 "ball.raw: resampling to cubic voxels of 0.001 mm: 16 x 16 x 6 samples \\(spacing 1 x 1 x 3000 mm\\) would become 15001 x 15001 x [0-9]+, which need .* of memory is available" -- \
     "$SNERT" compare "$tmp/ball.raw" --raw 16,16,6 --raw-type uint8 --raw-spacing 1,1,3000 --iso 100 --isotropic 0.001
 expect_exit 2 "--schedule: must be one of simultaneous\|smoothing-first" -- "$SNERT" compare phantom:sphere --schedule later
