@@ -63,7 +63,8 @@ import sys
 sys.stdout.buffer.write(bytes(200 if (x-7.5)**2+(y-7.5)**2+(3*z-7.5)**2 < 36 else 0
                               for z in range(6) for y in range(16) for x in range(16)))" >"$tmp/ball.raw"
 ball=("$tmp/ball.raw" --raw 16,16,6 --raw-type uint8 --raw-spacing 1,1,3 --iso 100)
-expect_exit 0 "resampled to 16x16x16, cubic voxels of 1 mm" -- "$SNERT" compare "${ball[@]}" --isotropic --mode snert --iterations 5
+expect_exit 0 "resampled to 16x16x16, cubic voxels of 1 mm" -- "$SNERT" compare "${ball[@]}" --isotropic --mode snert --iterations 5 --json "$tmp/ball.json"
+python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['provenance']['input']; assert p['dims']==[16,16,16] and p['spacing']==[1,1,1] and p['isotropic']==1, p" "$tmp/ball.json" || fail "--isotropic provenance"
 expect_exit 0 "cubic voxels of 0.5 mm" -- "$SNERT" compare "${ball[@]}" --isotropic 0.5 --mode snert --iterations 5
 expect_exit 2 "--isotropic: applies to volume files, not to phantom:sphere" -- "$SNERT" compare phantom:sphere --isotropic
 expect_exit 2 "--isotropic: 'abc' is not a positive number" -- "$SNERT" compare "${ball[@]}" --isotropic abc
