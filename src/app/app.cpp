@@ -244,6 +244,10 @@ void App::sync_form(const SourceSpec& spec) {
     form_.raw = spec.raw.has_value();
     if (spec.raw) form_.raw_options = *spec.raw;
     form_.labels = spec.labels;
+    if (!spec.is_phantom()) {
+        form_.cubic = spec.isotropic.has_value();
+        if (spec.isotropic) form_.cubic_edge = *spec.isotropic;
+    }
     completions_.clear();
     label_completions_.clear();
 }
@@ -284,6 +288,7 @@ void App::open_path(const std::string& path) {
             return;
         }
         if (form_.raw && !std::filesystem::is_directory(expanded)) spec.raw = form_.raw_options;
+        if (form_.cubic) spec.isotropic = form_.cubic_edge;
     }
     form_.path = spec.is_phantom() ? std::string() : expanded;
     open(spec);
@@ -307,6 +312,7 @@ void App::open_form() {
             return;
         }
         if (form_.raw && !std::filesystem::is_directory(path)) spec.raw = form_.raw_options;
+        if (form_.cubic) spec.isotropic = form_.cubic_edge;
         if (path == shown.input) spec.series_uid = shown.series_uid;
         spec.labels = expand_home(form_.labels);
         if (!spec.labels.empty() && !openable_path(spec.labels)) {
@@ -333,6 +339,7 @@ void App::choose_series(const std::string& uid) {
     SourceSpec spec;
     spec.input = series_.folder;
     spec.series_uid = uid;
+    if (form_.cubic) spec.isotropic = form_.cubic_edge;
     form_.path = spec.input;
     open(spec);
 }

@@ -74,6 +74,10 @@ struct OpenForm {
     bool raw = false; // headerless raw data: read `path` with raw_options
     RawOptions raw_options{glm::ivec3(64), ScalarType::UInt16, glm::vec3(1.0f), Endian::Little};
     std::string labels; // the label map field: a label volume on the grey image's grid
+    // Resampling to cubic voxels (SourceSpec::isotropic): applied at once to the file shown,
+    // and kept for the next file opened (a phantom's voxels are cubic already).
+    bool cubic = false;
+    float cubic_edge = 0.0f; // mm; 0: the smallest spacing
 };
 
 // A message in the status line: an outcome (screenshot saved) or an error (red).
@@ -216,6 +220,7 @@ class App {
     void draw_open_fields();
     void draw_raw_options();
     void draw_label_map();
+    void draw_cubic_voxels();
     void draw_series_list();
     void draw_iso_section();
     void draw_relaxation_section();

@@ -148,6 +148,12 @@ std::string recent_label(const SourceSpec& spec) {
                 "x" + std::to_string(r.dims.y) + "x" + std::to_string(r.dims.z) + ")";
     }
     if (!spec.series_uid.empty()) text += "  (series " + spec.series_uid + ")";
+    if (spec.isotropic) {
+        char edge[32];
+        std::snprintf(edge, sizeof edge, "%g", double(*spec.isotropic));
+        text += *spec.isotropic > 0.0f ? "  (cubic voxels of " + std::string(edge) + " mm)"
+                                       : "  (cubic voxels)";
+    }
     if (!spec.labels.empty()) {
         text += "  (labels " + fs::path(spec.labels).filename().string();
         if (spec.label) text += ", label " + std::to_string(*spec.label);
@@ -268,7 +274,42 @@ void App::draw_open_fields() {
     draw_raw_options();
     draw_series_list();
     draw_label_map();
+    draw_cubic_voxels();
     if (open_now) open_form();
+}
+
+// Resampling to cubic voxels (io/isotropic.h): a thick-sliced scan's cells, and the net's
+// triangles with them, are no longer stretched. Applied at once to the file shown.
+void App::draw_cubic_voxels() {
+    const SourceSpec& requested = settings_.parameters.volume;
+    if (requested.is_phantom() && form_.path.empty()) return;
+    const auto apply = [&] {
+        if (requested.is_phantom()) return; // taken by the next Open
+        SourceSpec spec = requested;
+        if (form_.cubic)
+            spec.isotropic = form_.cubic_edge;
+        else
+            spec.isotropic.reset();
+        open(spec);
+    };
+    if (ImGui::Checkbox("Cubic voxels", &form_.cubic)) apply();
+    record("cubic_checkbox");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Resample the volume to cubic voxels before anything else (grey "
+                          "values linearly; a label's mask linearly, cut at 0.5), so thick "
+                          "slices do not stretch the triangles. Refused, saying why, when the "
+                          "new grid would not fit in memory.");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(5.0f * fonts_.size);
+    ImGui::BeginDisabled(!form_.cubic);
+    ImGui::InputFloat("mm edge", &form_.cubic_edge, 0.0f, 0.0f,
+                      form_.cubic_edge > 0.0f ? "%.4g" : "smallest");
+    record("cubic_edge");
+    if (!(form_.cubic_edge >= 0.0f) || !std::isfinite(form_.cubic_edge)) form_.cubic_edge = 0.0f;
+    if (ImGui::IsItemDeactivatedAfterEdit()) apply();
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("the edge of the new voxels in mm; 0: the smallest spacing");
 }
 
 void App::draw_raw_options() {

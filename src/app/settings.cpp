@@ -176,6 +176,14 @@ const std::vector<SpecField>& spec_fields() {
              s.label = v;
              return true;
          }},
+        {"isotropic",
+         [](const SourceSpec& s) { return s.isotropic ? float_text(*s.isotropic) : ""; },
+         [](SourceSpec& s, const std::string& text) {
+             float edge = 0.0f;
+             if (!parse_float(text, edge) || !(edge >= 0.0f)) return false;
+             s.isotropic = edge;
+             return true;
+         }},
     };
     return table;
 }

@@ -76,6 +76,8 @@ Runner add_bench(CLI::App& app) {
         std::string volume;
         float iso = 0.0f;
         CLI::Option* o_iso = nullptr;
+        std::string isotropic;
+        CLI::Option* o_isotropic = nullptr;
         unsigned threads = 0;
         int repeat = 3;
         PipelineArgs pipeline;
@@ -98,6 +100,7 @@ Runner add_bench(CLI::App& app) {
     args->o_iso = command->add_option("--iso", args->iso, "the iso of --volume")
                       ->type_name("V")
                       ->needs(o_volume);
+    args->o_isotropic = add_isotropic_option(*command, args->isotropic)->needs(o_volume);
     command->add_option("--threads", args->threads, "threads the passes may use (0: one per core)")
         ->check(CLI::Range(0u, 1024u))
         ->type_name("T")
@@ -117,6 +120,7 @@ Runner add_bench(CLI::App& app) {
         choice.spec.input = args->volume.empty() ? "phantom:sphere" : args->volume;
         choice.spec.phantom_size = args->size;
         if (args->o_iso->count()) choice.iso = args->iso;
+        choice.spec.isotropic = isotropic_edge(args->o_isotropic, args->isotropic);
         const ProgressLine progress("bench", args->quiet);
 
         std::vector<Row> rows;

@@ -76,6 +76,18 @@ const CLI::Validator kFinite(
     },
     "");
 
+// --isotropic's edge: nothing (the smallest spacing) or a positive number of millimetres.
+std::string check_edge(std::string& text) {
+    if (text.empty()) return {};
+    try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v) && v > 0.0) return {};
+    } catch (const std::exception&) {
+    }
+    return "'" + text + "' is not a positive number of millimetres";
+}
+
 constexpr const char* kInputGroup = "Input";
 constexpr const char* kPipelineGroup = "Relaxation";
 
@@ -148,6 +160,7 @@ void add_input_options(CLI::App& command, InputArgs& a, bool optional_input) {
     a.o_label = command.add_option("--label", a.label, "the label of --labels to extract")
                     ->type_name("N")
                     ->group(kInputGroup);
+    a.o_isotropic = add_isotropic_option(command, a.isotropic)->group(kInputGroup);
     a.o_raw->needs(a.o_raw_type);
     a.o_raw_type->needs(a.o_raw);
     a.o_raw_spacing->needs(a.o_raw);
@@ -157,6 +170,21 @@ void add_input_options(CLI::App& command, InputArgs& a, bool optional_input) {
     a.o_label->needs(a.o_labels);
 }
 
+CLI::Option* add_isotropic_option(CLI::App& command, std::string& text) {
+    return command
+        .add_option("--isotropic", text,
+                    "resample to cubic voxels of MM mm (default: the smallest spacing) before "
+                    "anything else: grey values linearly, a label's mask linearly, cut at 0.5")
+        ->expected(0, 1)
+        ->check(CLI::Validator(check_edge, ""))
+        ->type_name("[MM]");
+}
+
+std::optional<float> isotropic_edge(const CLI::Option* option, const std::string& text) {
+    if (!option->count()) return std::nullopt;
+    return text.empty() ? 0.0f : std::stof(text); // checked by the option's validator
+}
+
 InputChoice input_choice(const InputArgs& a) {
     InputChoice c;
     c.spec.input = a.input;
@@ -164,7 +192,7 @@ InputChoice input_choice(const InputArgs& a) {
     c.inside = a.inside;
     if (c.spec.is_phantom()) {
         for (const CLI::Option* o : {a.o_raw, a.o_raw_type, a.o_raw_spacing, a.o_raw_endian,
-                                     a.o_series, a.o_labels, a.o_label})
+                                     a.o_series, a.o_labels, a.o_label, a.o_isotropic})
             if (o->count())
                 throw CLI::ValidationError(o->get_name(),
                                            "applies to volume files, not to " + a.input);
@@ -182,6 +210,7 @@ InputChoice input_choice(const InputArgs& a) {
         if (a.o_raw_endian->count()) raw.endian = parse_endian(a.raw_endian);
         c.spec.raw = raw;
     }
+    c.spec.isotropic = isotropic_edge(a.o_isotropic, a.isotropic);
     c.spec.series_uid = a.series;
     c.spec.labels = a.labels;
     if (a.o_label->count()) c.spec.label = a.label;

@@ -64,12 +64,19 @@ struct InputArgs {
     CLI::Option *o_input = nullptr, *o_size = nullptr, *o_iso = nullptr, *o_raw = nullptr,
                 *o_raw_type = nullptr, *o_raw_spacing = nullptr, *o_raw_endian = nullptr,
                 *o_series = nullptr, *o_labels = nullptr, *o_label = nullptr;
+    std::string isotropic; // --isotropic [MM]: the edge as typed, empty: the smallest spacing
+    CLI::Option* o_isotropic = nullptr;
 };
 
 // VOLUME (required unless `optional_input`), --size, --iso, --inside, --raw, --raw-type,
-// --raw-spacing, --raw-endian, --series, --labels, --label: what every command that reads a
-// volume accepts, the app included.
+// --raw-spacing, --raw-endian, --series, --labels, --label, --isotropic: what every command
+// that reads a volume accepts, the app included.
 void add_input_options(CLI::App& command, InputArgs& args, bool optional_input = false);
+
+// --isotropic [MM] into `text` (empty: the smallest spacing); add_input_options declares it,
+// and bench beside its --volume. isotropic_edge: what it asks for (empty: not given).
+CLI::Option* add_isotropic_option(CLI::App& command, std::string& text);
+std::optional<float> isotropic_edge(const CLI::Option* option, const std::string& text);
 
 // What the input options ask for.
 struct InputChoice {
@@ -79,7 +86,8 @@ struct InputChoice {
 };
 
 // After parsing. Throws CLI::ValidationError for options that do not apply to the input: a
-// phantom with --raw, --series or --labels, a file with --size.
+// phantom with --raw, --series, --labels or --isotropic (its voxels are cubic already), a file
+// with --size.
 InputChoice input_choice(const InputArgs& args);
 
 // Opens the input (open_source). What it throws about the input (a missing or bad file, an

@@ -312,6 +312,7 @@ nlohmann::json input_json(const Source& source) {
         const Volume& v = *source.volume;
         j["dims"] = {v.dims.x, v.dims.y, v.dims.z};
         j["spacing"] = shortest(v.spacing);
+        if (spec.isotropic) j["isotropic"] = shortest(v.spacing.x); // the edge used, mm
     }
     return j;
 }

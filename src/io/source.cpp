@@ -12,6 +12,7 @@
 
 #include "core/phantom.h"
 #include "core/pipeline.h"
+#include "isotropic.h"
 #include "nifti_label_names.h"
 
 namespace snert {
@@ -39,6 +40,9 @@ void open_phantom(Source& source, std::string_view name) {
         throw std::invalid_argument(spec.input + ": a series applies to DICOM folders only");
     if (!spec.labels.empty() || spec.label)
         throw std::invalid_argument(spec.input + ": a label map needs a volume file");
+    if (spec.isotropic)
+        throw std::invalid_argument(spec.input + ": isotropic resampling applies to volume "
+                                                 "files; a phantom's voxels are cubic already");
     Phantom phantom = make_phantom(name, spec.phantom_size);
     source.title =
         "phantom " + phantom.name + ", " + std::to_string(spec.phantom_size) + "\xC2\xB3";
@@ -96,14 +100,17 @@ std::string list_labels(const std::vector<LabelEntry>& labels) {
     return text.empty() ? "none" : text;
 }
 
-void open_labels(Source& source, const LoadOptions& options) {
+// `stored` is the grey image's grid as the file holds it (its samples are not read); with
+// `cubic`, the label's mask is resampled to it, where the grey values already are.
+void open_labels(Source& source, const LoadOptions& options, const Volume& stored,
+                 const std::optional<IsotropicGrid>& cubic) {
     const SourceSpec& spec = source.spec;
     const std::string& path = spec.labels;
     LoadOptions label_options;
     label_options.memory_limit_bytes = options.memory_limit_bytes;
     label_options.progress = options.progress;
     const LoadedVolume labels = open_volume(path, label_options);
-    check_same_grid(*source.volume, spec.input, labels.volume, path);
+    check_same_grid(stored, spec.input, labels.volume, path);
     source.labels_present = count_labels(labels.volume, path);
     if (!spec.label) return;
     const int label = *spec.label;
@@ -114,6 +121,7 @@ void open_labels(Source& source, const LoadOptions& options) {
             path + ": label " + std::to_string(label) +
             " does not occur (labels present: " + list_labels(source.labels_present) + ")");
     auto mask = std::make_shared<Segmentation>(segment_label(labels.volume, label));
+    if (cubic) *mask = resample_mask(*mask, stored, *cubic);
     const BoundaryIso boundary = boundary_iso(*source.volume, *mask);
     source.mask = std::move(mask);
     source.suggested_iso = boundary.iso;
@@ -144,8 +152,31 @@ void open_file(Source& source, const Progress& progress) {
                                   " NaN / infinite samples replaced (NaN and -inf by the "
                                   "smallest value, +inf by the largest)");
     source.info = std::move(loaded.info);
+    // The stored grid, for the label map's check; the grey values are resampled first.
+    Volume stored;
+    stored.dims = loaded.volume.dims;
+    stored.spacing = loaded.volume.spacing;
+    stored.origin = loaded.volume.origin;
+    stored.direction = loaded.volume.direction;
+    std::optional<IsotropicGrid> cubic;
+    if (spec.isotropic) {
+        cubic = isotropic_grid(spec.input, loaded.volume, *spec.isotropic);
+        if (on_grid(loaded.volume, *cubic)) {
+            source.description += "; its voxels are cubic already";
+            cubic.reset();
+        } else {
+            const bool with_mask = !spec.labels.empty() && spec.label;
+            check_isotropic_memory(spec.input, loaded.volume, *cubic, with_mask, spec.memory_limit);
+            loaded.volume = resample_linear(loaded.volume, *cubic);
+            const glm::ivec3 d = cubic->dims;
+            std::ostringstream text;
+            text << "; resampled to " << d.x << "x" << d.y << "x" << d.z << ", cubic voxels of "
+                 << cubic->edge << " mm";
+            source.description += text.str();
+        }
+    }
     source.volume = std::make_shared<const Volume>(std::move(loaded.volume));
-    if (!spec.labels.empty()) open_labels(source, options);
+    if (!spec.labels.empty()) open_labels(source, options, stored, cubic);
     if (!source.mask) {
         source.suggested_iso = suggest_iso(*source.volume, source.info->range);
         source.suggested_inside = InsideIs::Above;

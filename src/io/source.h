@@ -28,7 +28,10 @@ struct SourceSpec {
     std::string series_uid;        // DICOM folder: this SeriesInstanceUID; empty: the largest
     std::string labels;            // a label map on the same grid; empty: threshold the grey
     std::optional<int> label;      // the label to extract from `labels`
-    std::size_t memory_limit = 0;  // bytes a volume may take; 0: what the machine has
+    // Resample to cubic voxels of this edge in mm before anything else (isotropic.h); 0: the
+    // smallest spacing; empty: keep the stored grid. Files only: a phantom's voxels are cubic.
+    std::optional<float> isotropic;
+    std::size_t memory_limit = 0; // bytes a volume may take; 0: what the machine has
     bool operator==(const SourceSpec&) const = default;
 
     bool is_phantom() const;
@@ -68,8 +71,9 @@ struct Source {
 };
 
 // Opens `spec`. Throws std::invalid_argument (bad options: unknown phantom, raw dims, a label
-// that does not occur, a series uid that is not there) or std::runtime_error (the file:
-// missing, truncated, not a volume, grids that differ), each one line starting with the path;
+// that does not occur, a series uid that is not there, isotropic resampling of a phantom) or
+// std::runtime_error (the file: missing, truncated, not a volume, grids that differ; a cubic
+// grid that would not fit in memory), each one line starting with the path;
 // Cancelled when `progress` asks.
 Source open_source(const SourceSpec& spec, const Progress& progress = {});
 

@@ -611,6 +611,49 @@ TEST(AppInput, DicomFolderListsItsSeriesAndOpensOne) {
 
 // --- A failed open never breaks the session -------------------------------------------------
 
+// The Volume panel's Cubic voxels: ticked, the file shown is resampled at once; an edge typed
+// applies on Enter; a grid too large is refused in red and the last volume stays; unticked,
+// the stored grid comes back.
+TEST(AppInput, CubicVoxelsResampleTheFileShown) {
+    const test::TempFolder temp("snert-app-cubic");
+    const std::string file = write_nrrd(temp, "ball.nrrd", {20, 18, 16}); // 1 x 1 x 1.5 mm
+    auto h = make_app(2, file);
+    const SourceSpec stored{file};
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, stored); }));
+    App& app = h->app();
+    click_widget(*h, "cubic_checkbox");
+    SourceSpec cubic = stored;
+    cubic.isotropic = 0.0f; // the smallest spacing: 1 mm
+    EXPECT_EQ(app.settings().parameters.volume, cubic);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, cubic); }));
+    EXPECT_EQ(app.results().source->volume->dims, glm::ivec3(20, 18, 23)); // 22.5 mm: 23 samples
+    EXPECT_NE(app.results().source->description.find("resampled to 20x18x23"), std::string::npos)
+        << app.results().source->description;
+
+    click_widget(*h, "cubic_edge");
+    h->type("0.5");
+    h->tap(key::Enter);
+    cubic.isotropic = 0.5f;
+    EXPECT_EQ(app.settings().parameters.volume, cubic);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, cubic); }));
+    EXPECT_EQ(app.results().source->volume->dims, glm::ivec3(39, 35, 46));
+
+    // An edge that makes an absurd grid: the error names the file, the last volume stays.
+    app.form().cubic_edge = 1e-6f;
+    app.open_form();
+    ASSERT_TRUE(h->run_until([](const App& a) { return !a.load_error().empty() && settled(a); }));
+    EXPECT_NE(app.load_error().find("ball.nrrd: resampling to cubic voxels of 1e-06 mm"),
+              std::string::npos)
+        << app.load_error();
+    EXPECT_EQ(app.settings().parameters.volume, cubic);
+    EXPECT_EQ(app.form().cubic_edge, 0.5f); // the fields show the input shown again
+
+    click_widget(*h, "cubic_checkbox");
+    EXPECT_EQ(app.settings().parameters.volume, stored);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, stored); }));
+    EXPECT_EQ(app.results().source->volume->dims, glm::ivec3(20, 18, 16));
+}
+
 TEST(AppInput, TruncatedFileKeepsTheOldInputAndMeshes) {
     const test::TempFolder temp("snert-app-bad");
     const std::string good = write_nrrd(temp, "good.nrrd", {20, 20, 20});

@@ -122,6 +122,27 @@ TEST(InputParity, NrrdFile) {
     expect_gui_opens(cli);
 }
 
+// Cubic voxels: the Volume panel's switch and edge are the CLI's --isotropic MM.
+TEST(InputParity, CubicVoxels) {
+    const test::TempFolder temp("snert-parity-cubic");
+    const std::string path = write_raw(temp);
+    const SourceSpec cli =
+        cli_spec({path, "--raw", "10,11,12", "--raw-type", "uint16", "--raw-spacing",
+                  "0.5,0.5,1.25", "--raw-endian", "big", "--isotropic", "0.4"});
+    ASSERT_EQ(cli.isotropic, 0.4f);
+    EXPECT_EQ(cli_spec({path, "--isotropic"}).isotropic, 0.0f); // the smallest spacing
+    expect_panel_opens(cli, [&](HeadlessApp& h) {
+        OpenForm& form = h.app().form();
+        form.path = path;
+        form.raw = true;
+        form.raw_options = {{10, 11, 12}, ScalarType::UInt16, {0.5f, 0.5f, 1.25f}, Endian::Big};
+        form.cubic = true;
+        form.cubic_edge = 0.4f;
+        h.app().open_form();
+    });
+    expect_gui_opens(cli);
+}
+
 TEST(InputParity, HeaderlessRaw) {
     const test::TempFolder temp("snert-parity-raw");
     const std::string path = write_raw(temp);

@@ -37,13 +37,18 @@ TEST(Settings, RoundTripsEveryField) {
     s.parameters.volume.series_uid = "1.2.840.113619.2.1";
     s.parameters.volume.labels = "/data/head labels.nii.gz";
     s.parameters.volume.label = 7;
+    s.parameters.volume.isotropic = 0.75f;
     SourceSpec labelled{"/a b/c.nii.gz"};
     labelled.labels = "/a b/seg.nii.gz";
     labelled.label = 5;
     SourceSpec raw{"/d.raw"};
     raw.raw = RawOptions{{10, 20, 30}, ScalarType::Float32, {1.0f, 1.0f, 1.5f}, Endian::Little};
-    s.recent_files = {labelled, raw, SourceSpec{"/e.mhd"}};
+    SourceSpec cubic{"/f.nrrd"};
+    cubic.isotropic = 0.0f; // the smallest spacing
+    s.recent_files = {labelled, raw, SourceSpec{"/e.mhd"}, cubic};
     const std::string text = format_settings(s);
+    EXPECT_NE(text.find("isotropic = 0.75\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("recent = /f.nrrd | isotropic=0\n"), std::string::npos) << text;
     EXPECT_NE(text.find("raw = 64,48,30\n"), std::string::npos) << text;
     EXPECT_NE(text.find("raw_type = int16\n"), std::string::npos) << text;
     EXPECT_NE(text.find("mode = sna\n"), std::string::npos) << text; // names, not labels
@@ -77,7 +82,7 @@ TEST(Settings, SkipsBadValuesAndUnknownKeys) {
 
 TEST(Settings, AnInputWithoutOptionsWritesNoOptionKeys) {
     const std::string text = format_settings(Settings());
-    for (const char* key : {"raw", "raw_type", "series", "labels", "label"})
+    for (const char* key : {"raw", "raw_type", "series", "labels", "label", "isotropic"})
         EXPECT_EQ(text.find(std::string("\n") + key + " ="), std::string::npos) << key;
     EXPECT_FALSE(parse_settings(text).parameters.volume.raw);
     // Raw options without their grid cannot be read, so they are dropped.
@@ -98,6 +103,8 @@ TEST(Settings, SourceLinesReadBackAndRefuseBadOptions) {
                                          "raw_spacing=3.2,3.2,1.5 | raw_endian=little");
     EXPECT_FALSE(parse_source_line(""));
     EXPECT_FALSE(parse_source_line("/x | label=five"));
+    EXPECT_FALSE(parse_source_line("/x | isotropic=-1"));
+    EXPECT_EQ(parse_source_line("/x | isotropic=1.5")->isotropic, 1.5f);
     EXPECT_FALSE(parse_source_line("/x | colour=red"));
     EXPECT_FALSE(parse_source_line("/x | raw_type=int16")); // no grid
     const Settings s = parse_settings("recent = /a.nrrd\nrecent = /b.raw | raw_type=nonsense\n"

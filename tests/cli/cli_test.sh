@@ -55,13 +55,29 @@ expect_exit 2 "--label requires --labels" -- "$SNERT" compare "$tmp/v.nrrd" --la
 expect_exit 2 "--(series excludes --raw|raw excludes --series)" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4,4 --raw-type uint8 --series 1.2.3
 expect_exit 2 "--raw: takes three" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4 --raw-type uint8
 expect_exit 2 "--raw-type: .*float32" -- "$SNERT" compare "$tmp/v.raw" --raw 4,4,4 --raw-type half
+
+# --isotropic: a 1 x 1 x 3 mm ball resampled to cubic voxels of 1 mm; phantoms (cubic already)
+# refuse it; a cubic grid that does not fit in memory is refused with its sizes.
+python3 -c "
+import sys
+sys.stdout.buffer.write(bytes(200 if (x-7.5)**2+(y-7.5)**2+(3*z-7.5)**2 < 36 else 0
+                              for z in range(6) for y in range(16) for x in range(16)))" >"$tmp/ball.raw"
+ball=("$tmp/ball.raw" --raw 16,16,6 --raw-type uint8 --raw-spacing 1,1,3 --iso 100)
+expect_exit 0 "resampled to 16x16x16, cubic voxels of 1 mm" -- "$SNERT" compare "${ball[@]}" --isotropic --mode snert --iterations 5 --json "$tmp/ball.json"
+python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['provenance']['input']; assert p['dims']==[16,16,16] and p['spacing']==[1,1,1] and p['isotropic']==1, p" "$tmp/ball.json" || fail "--isotropic provenance"
+expect_exit 0 "cubic voxels of 0.5 mm" -- "$SNERT" compare "${ball[@]}" --isotropic 0.5 --mode snert --iterations 5
+expect_exit 2 "--isotropic: applies to volume files, not to phantom:sphere" -- "$SNERT" compare phantom:sphere --isotropic
+expect_exit 2 "--isotropic: 'abc' is not a positive number" -- "$SNERT" compare "${ball[@]}" --isotropic abc
+expect_exit 2 "--isotropic requires --volume" -- "$SNERT" bench --isotropic
+expect_exit 2 "ball.raw: resampling to cubic voxels of 0.001 mm: 16 x 16 x 6 samples \\(spacing 1 x 1 x 3000 mm\\) would become 15001 x 15001 x [0-9]+, which need .* of memory is available" -- \
+    "$SNERT" compare "$tmp/ball.raw" --raw 16,16,6 --raw-type uint8 --raw-spacing 1,1,3000 --iso 100 --isotropic 0.001
 expect_exit 2 "--schedule: must be one of simultaneous\|smoothing-first" -- "$SNERT" compare phantom:sphere --schedule later
 expect_exit 2 "--method: must be one of mc\|sna\|gradient\|snert" -- "$SNERT" export phantom:sphere --method best --out "$tmp/m.stl"
 expect_exit 2 "not expected.*--mode" -- "$SNERT" export phantom:sphere --mode sna --out "$tmp/m.stl"
 
 # --help is generated from the declarations: the input options are listed.
 expect_exit 0 "" -- "$SNERT" compare --help
-for option in --raw --raw-type --raw-spacing --raw-endian --series --labels --label --iso --mode --json; do
+for option in --raw --raw-type --raw-spacing --raw-endian --series --labels --label --isotropic --iso --mode --json; do
     grep -qE -- "^ *$option " "$tmp/out" || fail "compare --help lacks $option"
 done
 expect_exit 0 "" -- "$SNERT" --help

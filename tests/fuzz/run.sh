@@ -11,14 +11,15 @@ out="$root/build/fuzz"
 mkdir -p "$out/corpus" "$out/seeds"
 cxx=${FUZZ_CXX:-clang++}
 
-# Every source of snert_io but those that include ITK (itk_support, itk_image_io, dicom_series;
-# src/io/CMakeLists.txt names the same ones), those that call them (open_volume, the input
+# Every source of snert_io but those that include ITK (itk_support, itk_image_io, dicom_series,
+# isotropic; src/io/CMakeLists.txt names the same ones), those that call them (open_volume, the input
 # model) and the writers; and the core sources they call.
 sources=("$root/tests/fuzz/fuzz_volume_headers.cpp" "$root/src/core/volume_stats.cpp"
     "$root/src/core/volume.cpp")
 for file in "$root"/src/io/*.cpp; do
     case "$file" in
-    */itk_support.cpp | */itk_image_io.cpp | */dicom_series.cpp | */load_volume.cpp) ;;
+    */itk_support.cpp | */itk_image_io.cpp | */dicom_series.cpp | */isotropic.cpp) ;;
+    */load_volume.cpp) ;;
     */source.cpp) ;;
     */mesh_io.cpp | */atomic_file.cpp) ;;
     *) sources+=("$file") ;;
