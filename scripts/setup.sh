@@ -11,7 +11,7 @@ packages=(
   libinsighttoolkit5-dev zlib1g-dev libcli11-dev
   xvfb xauth x11-apps imagemagick
   clang clang-format libclang-rt-14-dev
-  tetgen
+  tetgen libmeshoptimizer-dev
 )
 # `make bench` only (scripts/setup.sh --bench): VTK's flying edges as the peer, and numpy for
 # making the CT benchmark volume. CI's `make test` does not pay for them.
