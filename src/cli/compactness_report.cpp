@@ -57,7 +57,7 @@ void print_equal_count(std::ostream& out, const EqualCountRun& run,
                        std::span<const MethodResult> results) {
     out << "  equal triangle count: " << run.target
         << (run.requested ? " (--equal-count)" : " (the smallest of the meshes' counts)")
-        << "; every metric above is of the reduced meshes (meshoptimizer's simplifier, checked)\n";
+        << "; the metrics are of the reduced meshes (meshoptimizer's simplifier, checked)\n";
     for (std::size_t i = 0; i < results.size() && i < run.reports.size(); ++i) {
         const DecimationReport& r = run.reports[i];
         out << "    " << name_of(results[i].method) << ": " << r.original << " -> " << r.achieved
