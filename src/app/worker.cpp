@@ -86,6 +86,37 @@ IterationStats measure_iteration(const RelaxContext& c, const DistanceFunction& 
     return stats;
 }
 
+// The compactness of a finished job: the curves of Marching Cubes' mesh and the net's last one,
+// and both reduced to the smaller count, measured as the pipeline measures (compactness.h).
+CompactnessMessage measure_compactness(const RelaxContext& c, const DistanceFunction& reference,
+                                       const MeasureOptions& what, const DisplayMesh& mc,
+                                       Method net_method, int iteration,
+                                       std::span<const glm::vec3> positions,
+                                       std::uint64_t first_geometry) {
+    const Mesh index_mesh =
+        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+    std::vector<MethodResult> results(2);
+    results[0] = {Method::MarchingCubes, mc.mesh, mc.metrics};
+    results[1].method = net_method;
+    results[1].mesh = mesh_to_world(index_mesh, *c.volume);
+    results[1].metrics = measure(index_mesh, *c.volume, reference, what);
+    CompactnessMessage m;
+    m.mc_curve = compactness_curve(results[0].mesh, *c.volume);
+    m.net_curve = compactness_curve(results[1].mesh, *c.volume);
+    m.equal_count = equal_count_target(results, std::nullopt);
+    if (m.equal_count == 0) return m; // a mesh without triangles: nothing to compare
+    const std::vector<DecimationReport> reports =
+        reduce_to_equal_count(results, m.equal_count, *c.volume, reference, what);
+    m.mc_report = reports[0];
+    m.net_report = reports[1];
+    m.mc_equal = display_mesh(std::move(results[0]), first_geometry);
+    auto net = std::const_pointer_cast<DisplayMesh>(
+        display_mesh(std::move(results[1]), first_geometry + 1, iteration));
+    net->last = true;
+    m.net_equal = net;
+    return m;
+}
+
 } // namespace
 
 const char* stage_name(Stage stage) {
@@ -533,6 +564,22 @@ void Worker::feed_measurer(Job& job) {
              return f;
          }});
     job.finished.reset();
+    // Then, without holding up "finished": the compactness of the last meshes, the job's last
+    // message (empty when there is no mesh to reduce).
+    const int last = job.history->latest_iteration();
+    auto positions =
+        std::make_shared<const std::vector<glm::vec3>>(job.history->positions(last, job.stop));
+    const std::uint64_t geometry = next_geometry_ + 1;
+    next_geometry_ += 2;
+    queue_iteration_measure(
+        {job.stop, job.generation,
+         [context = job.context, reference = job.reference, what = job.options.measure,
+          mc = cached_mc_, method = method_of(job.options.relax.mode), last, positions,
+          geometry]() -> std::optional<Payload> {
+             if (!mc) return CompactnessMessage{};
+             return measure_compactness(*context, reference, what, *mc, method, last, *positions,
+                                        geometry);
+         }});
 }
 
 void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {

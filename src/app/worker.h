@@ -23,6 +23,9 @@
 //    follows the newest iteration. While following, a new frame is made only once the UI has
 //    drained the previous one, so a fast relaxation does not spend its time on frames nobody
 //    sees; the last iteration's frame is always sent. Undrained frames are replaced, not queued.
+//  - Once a job (or a continuation) is finished, the measurer reduces its two last meshes
+//    (CompactnessMessage, the job's last message): the compactness curves and the equal-count
+//    pair.
 //  - continue_relaxation() relaxes the finished job further, up to `extra` iterations or until
 //    the largest move falls under epsilon ("run to convergence").
 //  - The worker never touches GL or ImGui. The destructor cancels and joins.
@@ -54,6 +57,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/compactness.h"
 #include "core/pipeline.h"
 #include "io/source.h"
 #include "iteration_history.h"
@@ -133,8 +137,20 @@ struct FrameMetricsMessage {
     std::shared_ptr<const DisplayMesh> mesh;
 };
 
-using Payload = std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage,
-                             FrameMessage, FinishedMessage, FailedMessage, FrameMetricsMessage>;
+// Compactness of the job's last meshes (core/compactness.h), measured after the FinishedMessage
+// and the job's last message: each mesh's compactness curve, and both reduced to the smaller
+// triangle count and measured again (the "equal triangle count" switch shows these). Curves
+// empty and meshes null where a mesh has no triangle.
+struct CompactnessMessage {
+    std::vector<CompactnessPoint> mc_curve, net_curve;
+    std::size_t equal_count = 0;
+    std::shared_ptr<const DisplayMesh> mc_equal, net_equal; // net_equal->iteration: the last
+    DecimationReport mc_report, net_report;
+};
+
+using Payload =
+    std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage, FrameMessage,
+                 FinishedMessage, FailedMessage, FrameMetricsMessage, CompactnessMessage>;
 struct Message {
     std::uint64_t generation = 0;
     Payload payload;

@@ -37,6 +37,11 @@ bool finished(const JobResults& r) {
     return r.finished.has_value() || !r.error.empty();
 }
 
+// The job's last message is its compactness, after the FinishedMessage.
+bool ended(const JobResults& r) {
+    return r.compactness.has_value() || !r.error.empty();
+}
+
 JobRequest phantom_job(const std::string& name, int size, std::optional<float> iso,
                        int iterations) {
     JobRequest job;
@@ -139,7 +144,7 @@ TEST(Worker, OneJobGivesThePipelinesResult) {
     JobResults r;
     const JobRequest job = phantom_job("sphere", 24, std::nullopt, 10);
     r.start(worker.request(job));
-    ASSERT_TRUE(pump_until(worker, r, finished));
+    ASSERT_TRUE(pump_until(worker, r, ended));
     ASSERT_TRUE(r.error.empty()) << r.error;
     expect_matches_pipeline(r, job);
     expect_consecutive_iterations(r);
@@ -187,7 +192,7 @@ TEST(Worker, CancelRestartStormEndsWithTheLastRequest) {
         }
         if (i % 11 == 0 && i + 1 < kRequests) worker.show_iteration(r.generation, int(rng() % 5));
     }
-    ASSERT_TRUE(pump_until(worker, r, finished)) << "the last job never finished";
+    ASSERT_TRUE(pump_until(worker, r, ended)) << "the last job never finished";
     ASSERT_TRUE(r.error.empty()) << r.error;
     EXPECT_EQ(r.generation, std::uint64_t(kRequests));
     EXPECT_LE(worker.jobs_started(), std::uint64_t(kRequests));
@@ -487,7 +492,9 @@ TEST(Worker, IterationsAreAnnouncedThenMeasuredThenTheJobEnds) {
         EXPECT_GT(finished_at, measured[k]) << k;
         EXPECT_TRUE(r.iterations[k].measured) << k;
     }
-    EXPECT_EQ(finished_at, position - 1);
+    // Only the compactness of the last meshes may follow the end of the job.
+    for (std::size_t i = std::size_t(finished_at) + 1; i < all.size(); ++i)
+        EXPECT_TRUE(std::holds_alternative<CompactnessMessage>(all[i].payload)) << i;
     ASSERT_GE(last_frame_at, 0);
     EXPECT_TRUE(r.frame->last && r.frame->metrics_complete);
 }
@@ -526,4 +533,33 @@ TEST(Worker, AskedFrameComesQuickThenMeasured) {
     other->geometry = measured->geometry + 1000;
     r.apply(Message{r.generation, FrameMetricsMessage{other}});
     EXPECT_EQ(r.frame, measured);
+}
+
+// After the job, the measurer reduces the last meshes: the compactness curves and the pair at
+// one triangle count, measured again, as the CLI's compare --equal-count does.
+TEST(Worker, CompactnessFollowsTheJob) {
+    Worker worker;
+    JobResults r;
+    r.start(worker.request(phantom_job("sphere", 32, std::nullopt, 5)));
+    ASSERT_TRUE(pump_until(worker, r, ended));
+    ASSERT_TRUE(r.finished);
+    const CompactnessMessage& c = *r.compactness;
+    ASSERT_EQ(c.mc_curve.size(), kCompactnessFractions.size());
+    ASSERT_EQ(c.net_curve.size(), kCompactnessFractions.size());
+    EXPECT_EQ(c.mc_curve.front().triangles, r.mc->mesh.triangle_count());
+    EXPECT_EQ(c.net_curve.front().triangles, r.frame->mesh.triangle_count());
+    EXPECT_GT(c.net_curve.back().accuracy_mean, c.net_curve[1].accuracy_mean);
+    EXPECT_EQ(c.equal_count, std::min(r.mc->mesh.triangle_count(), r.frame->mesh.triangle_count()));
+    for (const auto& mesh : {c.mc_equal, c.net_equal}) {
+        ASSERT_TRUE(mesh);
+        EXPECT_LE(mesh->mesh.triangle_count(), c.equal_count);
+        EXPECT_GE(double(mesh->mesh.triangle_count()), 0.99 * double(c.equal_count));
+        EXPECT_EQ(mesh->metrics.triangles, mesh->mesh.triangle_count());
+        EXPECT_EQ(mesh->quality.size(), mesh->mesh.triangle_count());
+        EXPECT_EQ(mesh->normals.size(), mesh->mesh.vertex_count());
+        EXPECT_TRUE(mesh->metrics.fe_ready);
+    }
+    EXPECT_EQ(c.net_equal->iteration, r.frame->iteration);
+    EXPECT_NE(c.mc_equal->geometry, c.net_equal->geometry);
+    EXPECT_NE(c.net_equal->geometry, r.frame->geometry);
 }
