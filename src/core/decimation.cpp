@@ -50,7 +50,6 @@ struct Reference {
     std::vector<glm::vec3> normals;     // area-weighted vertex normals of the input
     std::vector<std::uint8_t> boundary; // 1: the vertex is on an input boundary edge
     bool manifold = false, oriented = false;
-    long euler = 0;
 };
 
 Reference make_reference(const Mesh& mesh) {
@@ -69,7 +68,6 @@ Reference make_reference(const Mesh& mesh) {
     const Topology topo = topology(mesh);
     r.manifold = topo.manifold;
     r.oriented = topo.oriented;
-    r.euler = topo.euler;
     return r;
 }
 
@@ -86,7 +84,7 @@ struct HalfEdge {
 struct Verdict {
     std::vector<std::uint32_t> vertices;
     std::size_t topology = 0, intersections = 0, flips = 0, degenerate = 0;
-    bool euler_changed = false; // a genus change with no local sign of it
+    bool euler_changed = false; // a large component's genus changed with no local sign of it
     bool ok() const { return vertices.empty() && !euler_changed; }
 };
 
@@ -109,22 +107,18 @@ void mark_boundary(const Indices& indices, std::vector<std::uint8_t>& boundary) 
 
 // Edges of three or more triangles, edges used twice in one direction, new boundary edges; and
 // the Euler characteristic V - E + F of the candidate.
-void check_edges(const Indices& c, const Reference& ref, Verdict& v, long& euler) {
+void check_edges(const Indices& c, const Reference& ref, Verdict& v) {
     std::vector<HalfEdge> edges;
     edges.reserve(c.size());
-    std::vector<std::uint8_t> used(ref.normals.size(), 0);
     for (std::size_t t = 0; t < c.size(); t += 3)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = c[t + k], b = c[t + (k + 1) % 3];
-            used[a] = 1;
             if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
         }
     std::sort(edges.begin(), edges.end());
-    long edge_count = 0;
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
-        ++edge_count;
         const std::size_t n = j - i;
         const std::uint32_t lo = edges[i].lo, hi = edges[i].hi;
         const bool bad = (n >= 3 && ref.manifold) ||
@@ -137,8 +131,65 @@ void check_edges(const Indices& c, const Reference& ref, Verdict& v, long& euler
         }
         i = j;
     }
-    const long vertex_count = long(std::count(used.begin(), used.end(), std::uint8_t(1)));
-    euler = vertex_count - edge_count + long(c.size() / 3);
+}
+
+// The connected components of a mesh (over shared vertices), with the Euler characteristic
+// V - E + F and the triangle count of each. A collapse never joins two components, so a
+// candidate's triangles are counted in the components of the mesh it was made from.
+struct Components {
+    std::vector<std::uint32_t> of_vertex; // component of each vertex (unused: any)
+    std::vector<long> euler;
+    std::vector<std::size_t> triangles;
+};
+
+Components components(const Indices& c, std::size_t vertex_count) {
+    std::vector<std::uint32_t> parent(vertex_count);
+    for (std::size_t i = 0; i < vertex_count; ++i) parent[i] = std::uint32_t(i);
+    auto root = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (std::size_t t = 0; t < c.size(); t += 3) {
+        parent[root(c[t + 1])] = root(c[t]);
+        parent[root(c[t + 2])] = root(c[t]);
+    }
+    Components comp;
+    comp.of_vertex.assign(vertex_count, 0);
+    std::vector<std::uint32_t> id(vertex_count, ~0u);
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < vertex_count; ++i) {
+        const std::uint32_t r = root(std::uint32_t(i));
+        if (id[r] == ~0u) id[r] = count++;
+        comp.of_vertex[i] = id[r];
+    }
+    comp.euler.assign(count, 0);
+    comp.triangles.assign(count, 0);
+    return comp;
+}
+
+// Fills `euler` and `triangles` of `comp` for the mesh `c` (whose vertices it labels).
+void count_components(const Indices& c, Components& comp) {
+    std::fill(comp.euler.begin(), comp.euler.end(), 0);
+    std::fill(comp.triangles.begin(), comp.triangles.end(), 0);
+    std::vector<std::uint8_t> seen(comp.of_vertex.size(), 0);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    edges.reserve(c.size());
+    for (std::size_t t = 0; t < c.size(); t += 3) {
+        const std::uint32_t k = comp.of_vertex[c[t]];
+        ++comp.triangles[k];
+        ++comp.euler[k];
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = c[t + e], b = c[t + (e + 1) % 3];
+            if (!seen[a]) {
+                ++comp.euler[k];
+                seen[a] = 1;
+            }
+            if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (const auto& e : edges) --comp.euler[comp.of_vertex[e.first]];
 }
 
 // A vertex is manifold when the far edges of its triangles (its link) form one path or cycle.
@@ -194,7 +245,9 @@ void check_fans(const Indices& c, std::size_t vertex_count, Verdict& v) {
     }
 }
 
-Verdict check(const Mesh& work, const Indices& c, const Reference& ref) {
+// `before`: the components of the mesh the candidate `c` was made from, counted.
+Verdict check(const Mesh& work, const Indices& c, const Reference& ref, const Indices& from,
+              const Components& before) {
     Verdict v;
     std::vector<std::uint8_t> is_new(c.size() / 3, 0);
     for (std::size_t t = 0; t < is_new.size(); ++t) {
@@ -211,8 +264,7 @@ Verdict check(const Mesh& work, const Indices& c, const Reference& ref) {
         v.flips += flipped && !degenerate;
         if (degenerate || flipped) v.vertices.insert(v.vertices.end(), i, i + 3);
     }
-    long euler = 0;
-    check_edges(c, ref, v, euler);
+    check_edges(c, ref, v);
     if (ref.manifold) check_fans(c, work.positions.size(), v);
     // Only pairs with a new triangle: what the input already had is not the step's doing.
     Mesh candidate;
@@ -225,7 +277,24 @@ Verdict check(const Mesh& work, const Indices& c, const Reference& ref) {
         for (const std::uint32_t u : {s, t})
             if (is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
     }
-    v.euler_changed = euler != ref.euler;
+    // A component whose Euler characteristic changed (or that vanished) without a local sign:
+    // a small one (a speck of noise collapsed away) is kept whole; a large one cannot be.
+    Components after = before;
+    count_components(c, after);
+    std::vector<std::uint8_t> keep(before.euler.size(), 0);
+    const std::size_t small = std::max<std::size_t>(64, from.size() / 3 / 100);
+    for (std::size_t k = 0; k < before.euler.size(); ++k) {
+        if (after.euler[k] == before.euler[k] &&
+            (after.triangles[k] > 0) == (before.triangles[k] > 0))
+            continue;
+        ++v.topology;
+        if (before.triangles[k] <= small)
+            keep[k] = 1;
+        else
+            v.euler_changed = true;
+    }
+    for (const std::uint32_t i : from)
+        if (keep[before.of_vertex[i]]) v.vertices.push_back(i);
     return v;
 }
 
@@ -295,6 +364,8 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
 
     while (true) {
         const std::size_t n = current.size() / 3;
+        Components before = components(current, vertex_count);
+        count_components(current, before);
         if (!error_only && n <= target) break;
         const float error_left = options.max_error - report.error;
         if (!(error_left > 0.0f)) break;
@@ -326,7 +397,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             if (simplified.size() >= free_part.size()) break; // nothing more to collapse
             Indices candidate = frozen_part;
             candidate.insert(candidate.end(), simplified.begin(), simplified.end());
-            const Verdict verdict = check(work, candidate, ref);
+            const Verdict verdict = check(work, candidate, ref, current, before);
             if (verdict.ok()) {
                 current = std::move(candidate);
                 report.error += step_error * scale;
