@@ -43,7 +43,7 @@ std::unique_ptr<HeadlessApp> make_app(int iterations, const std::string& input =
 // Everything has arrived and the right view shows the iteration the slider shows.
 bool settled(const App& app) {
     const JobResults& r = app.results();
-    return r.finished && r.mc && r.frame && r.mc_current && r.frame_current &&
+    return r.finished && r.compactness && r.mc && r.frame && r.mc_current && r.frame_current &&
            r.frame->iteration == app.shown_iteration() && r.frame->metrics_complete;
 }
 
@@ -227,6 +227,29 @@ TEST(AppUi, ViewsAreRedrawnOnlyWhenSomethingChanges) {
     EXPECT_FALSE(h->app().animating());
     h->tap(key::S); // smooth shading: one redraw
     EXPECT_EQ(h->app().view_render_count(), before + 1);
+}
+
+// The Compactness tab: its curves, and the switch that shows both meshes at one triangle count
+// (the worker's reduced pair), redrawing both views; switched off, the full meshes return.
+TEST(AppUi, EqualCountSwitchShowsTheReducedMeshes) {
+    auto h = make_app(4);
+    ASSERT_TRUE(h->run_until(settled));
+    const auto& c = h->app().results().compactness;
+    ASSERT_TRUE(c && c->mc_equal && c->net_equal);
+    click_widget(*h, "tab_compactness");
+    h->frame();
+    EXPECT_TRUE(h->app().widget_rect("compactness_plot_0"));
+    EXPECT_TRUE(h->app().widget_rect("compactness_plot_2"));
+    const int mc_draws = h->app().view_renderer().view_draws(0);
+    const int net_draws = h->app().view_renderer().view_draws(1);
+    click_widget(*h, "equal_count");
+    h->frame();
+    EXPECT_TRUE(h->app().equal_count());
+    EXPECT_GT(h->app().view_renderer().view_draws(0), mc_draws);
+    EXPECT_GT(h->app().view_renderer().view_draws(1), net_draws);
+    click_widget(*h, "equal_count");
+    h->frame();
+    EXPECT_FALSE(h->app().equal_count());
 }
 
 // A step to the next iteration sends the positions, normals and quality of the net, and only
