@@ -33,6 +33,7 @@ nlohmann::json decimation_json(const DecimationReport& r) {
               {"degenerate", r.refused_degenerate}}},
             {"frozen_vertices", r.frozen_vertices},
             {"stalled", r.stalled},
+            {"euler_change", r.euler_change},
             {"error", r.error}};
 }
 

@@ -28,7 +28,8 @@ EqualCountRun reduce_sources_to_equal_count(std::span<MethodResult> results,
                                             const Measured& measured);
 
 // {"original", "requested", "achieved", "refusals", "refused": {"topology", "intersections",
-// "flips", "degenerate"}, "frozen_vertices", "stalled", "error"} (error in world units, mm).
+// "flips", "degenerate"}, "frozen_vertices", "stalled", "euler_change", "error"} (error in world
+// units, mm).
 nlohmann::json decimation_json(const DecimationReport& report);
 
 // {"triangles": target, "requested": N or null}

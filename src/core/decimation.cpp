@@ -50,6 +50,7 @@ struct Reference {
     std::vector<glm::vec3> normals;     // area-weighted vertex normals of the input
     std::vector<std::uint8_t> boundary; // 1: the vertex is on an input boundary edge
     bool manifold = false, oriented = false;
+    long euler = 0;
 };
 
 Reference make_reference(const Mesh& mesh) {
@@ -68,6 +69,7 @@ Reference make_reference(const Mesh& mesh) {
     const Topology topo = topology(mesh);
     r.manifold = topo.manifold;
     r.oriented = topo.oriented;
+    r.euler = topo.euler;
     return r;
 }
 
@@ -84,8 +86,7 @@ struct HalfEdge {
 struct Verdict {
     std::vector<std::uint32_t> vertices;
     std::size_t topology = 0, intersections = 0, flips = 0, degenerate = 0;
-    bool euler_changed = false; // a large component's genus changed with no local sign of it
-    bool ok() const { return vertices.empty() && !euler_changed; }
+    bool ok() const { return vertices.empty(); }
 };
 
 void mark_boundary(const Indices& indices, std::vector<std::uint8_t>& boundary) {
@@ -277,22 +278,15 @@ Verdict check(const Mesh& work, const Indices& c, const Reference& ref, const In
         for (const std::uint32_t u : {s, t})
             if (is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
     }
-    // A component whose Euler characteristic changed (or that vanished) without a local sign:
-    // a small one (a speck of noise collapsed away) is kept whole; a large one cannot be.
+    // A component that would vanish (a speck of noise collapsed away) is kept whole.
     Components after = before;
     count_components(c, after);
     std::vector<std::uint8_t> keep(before.euler.size(), 0);
-    const std::size_t small = std::max<std::size_t>(64, from.size() / 3 / 100);
-    for (std::size_t k = 0; k < before.euler.size(); ++k) {
-        if (after.euler[k] == before.euler[k] &&
-            (after.triangles[k] > 0) == (before.triangles[k] > 0))
-            continue;
-        ++v.topology;
-        if (before.triangles[k] <= small)
+    for (std::size_t k = 0; k < before.euler.size(); ++k)
+        if (before.triangles[k] > 0 && after.triangles[k] == 0) {
+            ++v.topology;
             keep[k] = 1;
-        else
-            v.euler_changed = true;
-    }
+        }
     for (const std::uint32_t i : from)
         if (keep[before.of_vertex[i]]) v.vertices.push_back(i);
     return v;
@@ -339,6 +333,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
     const std::size_t vertex_count = mesh.positions.size();
     const float scale = meshopt_simplifyScale(xyz, vertex_count, sizeof(glm::vec3));
     const double share = std::clamp(options.step_share, 1e-3, 1.0);
+    double step = share; // of the triangles one step removes; halved after a failed step
     std::vector<std::uint8_t> frozen(vertex_count, 0);
     Mesh work;
     work.positions = mesh.positions;
@@ -369,7 +364,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
         if (!error_only && n <= target) break;
         const float error_left = options.max_error - report.error;
         if (!(error_left > 0.0f)) break;
-        const auto removed = std::size_t(std::ceil(double(n) * share));
+        const auto removed = std::size_t(std::ceil(double(n) * step));
         std::size_t goal = removed >= n ? 0 : n - removed;
         if (!error_only) goal = std::max(goal, target);
         bool accepted = false;
@@ -410,19 +405,20 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             report.refused_intersections += verdict.intersections;
             report.refused_flips += verdict.flips;
             report.refused_degenerate += verdict.degenerate;
-            if (verdict.vertices.empty()) {
-                // The genus changed with no local sign: ask for half as many collapses.
-                goal = n - (n - goal) / 2;
-                if (goal >= n) break;
-                continue;
-            }
             if (freeze(verdict.vertices) == 0) break;
         }
-        if (!accepted) break;
+        if (accepted) {
+            step = share;
+            continue;
+        }
+        // Not even with the trouble spots frozen: try a smaller step from the same mesh.
+        step *= 0.5;
+        if (double(n) * step < 1.0) break;
     }
     report.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), 1));
     Decimated result{compact(mesh, current), report};
     result.report.achieved = result.mesh.triangle_count();
+    result.report.euler_change = topology(result.mesh).euler - ref.euler;
     if (!error_only && result.report.achieved > target) result.report.stalled = true;
     return result;
 }

@@ -9,16 +9,19 @@
 // collapse can pinch the surface (a non-manifold edge or vertex) or change its genus. So
 // decimate() works in steps (each at most halving the count) and checks every step's result
 // against the mesh it started from:
-//   - topology: the Euler characteristic is kept; no edge of three or more triangles, no vertex
-//     of two fans, no edge used twice in one direction, where the input had none; no new
-//     boundary edge between vertices that were not on the input's boundary (a closed surface
-//     stays closed, an open one is open only where it was);
+//   - topology: no edge of three or more triangles, no vertex of two fans, no edge used twice in
+//     one direction, where the input had none; no new boundary edge between vertices that were
+//     not on the input's boundary (a closed surface stays closed, an open one is open only
+//     where it was); no connected component vanishes. A tunnel narrower than the deviation may
+//     close (the genus falls, reported as euler_change): the surface stays closed and manifold;
+//     noisy scans have thousands of such tunnels a voxel wide;
 //   - no new self-intersecting triangle pair (exact predicates, triangle_intersection.h);
 //   - no flipped triangle: a new triangle's normal must agree with the input's vertex normals at
 //     its corners (positive dot product with their sum);
 //   - no new degenerate triangle (metrics.h's kDegenerateHeightRatio).
 // A step that breaks a rule is refused; the triangles around what broke it are frozen (kept as
-// they are, their ring locked) and the step is tried again without them. What was refused, and
+// they are, their ring locked) and the step is tried again without them; after
+// DecimationOptions::max_retries refusals, a step half as large is tried. What was refused, and
 // how much stayed frozen, is reported: a result never breaks a rule to reach the target.
 //
 // Deterministic (meshoptimizer is single-threaded and the checks do not depend on the thread
@@ -57,6 +60,9 @@ struct DecimationReport {
                 refused_degenerate = 0;
     std::size_t frozen_vertices = 0; // vertices kept out of the collapses in the end
     bool stalled = false; // stopped short of the goal: no collapse was possible or allowed
+    // Euler characteristic of the result minus the input's: +2 for each tunnel (handle) narrower
+    // than the deviation that closed (0 on a sphere; noisy scans have many small tunnels).
+    long euler_change = 0;
 };
 
 struct Decimated {
