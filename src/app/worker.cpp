@@ -109,6 +109,7 @@ CompactnessMessage measure_compactness(const RelaxContext& c, const DistanceFunc
         reduce_to_equal_count(results, m.equal_count, *c.volume, reference, what);
     m.mc_report = reports[0];
     m.net_report = reports[1];
+    m.equal_count = std::max(reports[0].achieved, reports[1].achieved); // where one stopped short
     m.mc_equal = display_mesh(std::move(results[0]), first_geometry);
     auto net = std::const_pointer_cast<DisplayMesh>(
         display_mesh(std::move(results[1]), first_geometry + 1, iteration));

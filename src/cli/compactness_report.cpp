@@ -1,5 +1,6 @@
 #include "compactness_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <ostream>
 
@@ -17,6 +18,7 @@ EqualCountRun reduce_sources_to_equal_count(std::span<MethodResult> results,
     what.reference_volume = m.reference.volume;
     run.reports =
         reduce_to_equal_count(results, run.target, *source.volume, m.reference.distance, what);
+    for (const DecimationReport& r : run.reports) run.reached = std::max(run.reached, r.achieved);
     return run;
 }
 
@@ -38,7 +40,8 @@ nlohmann::json decimation_json(const DecimationReport& r) {
 }
 
 nlohmann::json equal_count_json(const EqualCountRun& run) {
-    return {{"triangles", run.target},
+    return {{"triangles", run.reached},
+            {"target", run.target},
             {"requested", run.requested ? nlohmann::json(*run.requested) : nlohmann::json()}};
 }
 
@@ -56,8 +59,9 @@ nlohmann::json compactness_json(std::span<const CompactnessPoint> curve) {
 
 void print_equal_count(std::ostream& out, const EqualCountRun& run,
                        std::span<const MethodResult> results) {
-    out << "  equal triangle count: " << run.target
-        << (run.requested ? " (--equal-count)" : " (the smallest of the meshes' counts)")
+    out << "  equal triangle count: " << run.reached;
+    if (run.reached != run.target) out << " (asked: " << run.target << ")";
+    out << (run.requested ? " (--equal-count)" : " (the smallest of the meshes' counts)")
         << "; the metrics are of the reduced meshes (meshoptimizer's simplifier, checked)\n";
     for (std::size_t i = 0; i < results.size() && i < run.reports.size(); ++i) {
         const DecimationReport& r = run.reports[i];

@@ -18,7 +18,8 @@ namespace snert::cli {
 // count among them) and measures them again as the pipeline measured them. Returns the count and
 // one report per result.
 struct EqualCountRun {
-    std::size_t target = 0;
+    std::size_t target = 0;  // the count asked for (or the smallest)
+    std::size_t reached = 0; // the count the meshes share (above target where one stopped short)
     std::optional<std::size_t> requested;
     std::vector<DecimationReport> reports;
 };
@@ -32,7 +33,7 @@ EqualCountRun reduce_sources_to_equal_count(std::span<MethodResult> results,
 // units, mm).
 nlohmann::json decimation_json(const DecimationReport& report);
 
-// {"triangles": target, "requested": N or null}
+// {"triangles": reached, "target": target, "requested": N or null}
 nlohmann::json equal_count_json(const EqualCountRun& run);
 
 // A list of {"fraction", "triangles", "accuracy_mean", "accuracy_max", "quality_mean",

@@ -32,11 +32,26 @@ std::vector<DecimationReport> reduce_to_equal_count(std::span<MethodResult> resu
     std::optional<Mesh> unreduced_mc;
     for (const MethodResult& r : results)
         if (r.method == Method::MarchingCubes) unreduced_mc = r.mesh;
-    std::vector<DecimationReport> reports;
-    for (MethodResult& r : results) {
+    // Reduce all; where one stops short (its checks refuse further steps), reduce the others
+    // again from their full meshes to the count it reached, so the counts stay equal.
+    std::vector<Decimated> reduced;
+    std::size_t reached = 0;
+    for (const MethodResult& r : results) {
         DecimationOptions options;
         options.target_triangles = target;
-        Decimated d = decimate(r.mesh, options);
+        reduced.push_back(decimate(r.mesh, options));
+        reached = std::max(reached, reduced.back().report.achieved);
+    }
+    for (std::size_t i = 0; i < results.size(); ++i)
+        if (reduced[i].report.achieved < reached && reached > target) {
+            DecimationOptions options;
+            options.target_triangles = reached;
+            reduced[i] = decimate(results[i].mesh, options);
+        }
+    std::vector<DecimationReport> reports;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+        MethodResult& r = results[i];
+        Decimated& d = reduced[i];
         reports.push_back(d.report);
         if (d.report.achieved == d.report.original) continue; // unchanged: metrics stand
         MethodMetrics m = measure(to_index(d.mesh, volume), volume, reference, what);

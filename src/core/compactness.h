@@ -29,7 +29,10 @@ std::size_t equal_count_target(std::span<const MethodResult> results,
 // measure() (`reference` and `what` as the pipeline measured it, the mesh taken back to index
 // space). Keeps ms and the relaxation's numbers. Each net's to_marching_cubes is its distance to
 // the UNREDUCED Marching Cubes mesh among the results, the best stand-in for the iso-surface.
-// Meshes already at or under `target` are left as they are. Returns one report per result.
+// Meshes already at or under `target` are left as they are. Where one mesh stops short of
+// `target` (decimation.h: its checks refused further steps), the others are reduced to the count
+// it reached instead, so the counts stay equal. Returns one report per result (requested: the
+// count asked of that mesh in the end).
 std::vector<DecimationReport> reduce_to_equal_count(std::span<MethodResult> results,
                                                     std::size_t target, const Volume& volume,
                                                     const DistanceFunction& reference,

@@ -141,8 +141,8 @@ grep -q "equal triangle count" "$tmp/out" || fail "compare --equal-count does no
 python3 - "$tmp/eq.json" <<'PY' || fail "compare --equal-count JSON"
 import json, sys
 j = json.load(open(sys.argv[1]))
-n = j["equal_count"]["triangles"]
-assert j["equal_count"]["requested"] is None
+n = j["equal_count"]["target"]
+assert j["equal_count"]["requested"] is None and j["equal_count"]["triangles"] <= n
 assert n == min(j[m]["decimation"]["original"] for m in ("mc", "snert")), n
 for m in ("mc", "snert"):
     d, r = j[m]["decimation"], j[m]
@@ -161,7 +161,7 @@ for m in ("mc", "snert"):
     assert c[4]["accuracy_mean"] > c[1]["accuracy_mean"], c
 PY
 expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count=500 --no-compactness --json "$tmp/eq500.json"
-python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert 'compactness' not in j; assert j['equal_count']=={'triangles':500,'requested':500}; assert all(490<=j[m]['triangles']<=500 and j[m]['decimation']['requested']==500 for m in ('mc','snert'))" "$tmp/eq500.json" || fail "compare --equal-count=500"
+python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert 'compactness' not in j; assert j['equal_count']=={'triangles':500,'target':500,'requested':500}; assert all(490<=j[m]['triangles']<=500 and j[m]['decimation']['requested']==500 for m in ('mc','snert'))" "$tmp/eq500.json" || fail "compare --equal-count=500"
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count 0
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count many
 expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --iterations 3
