@@ -753,6 +753,10 @@ void App::draw_compactness_tab() {
                                               : "the curves appear once the relaxation is done");
         return;
     }
+    if (!c->mc_equal || !c->net_equal) {
+        ImGui::TextDisabled("no surface to reduce");
+        return;
+    }
     ImGui::Text("equal count: %zu triangles (MC %zu refused steps, %s %zu)", c->equal_count,
                 std::size_t(c->mc_report.refusals),
                 std::string(label_of(c->net_equal->method)).c_str(),
@@ -761,6 +765,7 @@ void App::draw_compactness_tab() {
         ImGui::TextDisabled("  the reduced meshes are of the last iteration: go there to see them");
     const ImU32 mc_color = render::method_color_u32(Method::MarchingCubes);
     const ImU32 net_color = render::method_color_u32(c->net_equal->method);
+    const std::string net_label(label_of(c->net_equal->method));
     auto series = [](const std::vector<CompactnessPoint>& curve, double CompactnessPoint::*field) {
         std::vector<CompactnessSeries::Point> points;
         for (const CompactnessPoint& p : curve) points.push_back({p.fraction, float(p.*field)});
@@ -779,17 +784,17 @@ void App::draw_compactness_tab() {
     const std::vector<CompactnessSeries::Point> net_q =
         series(c->net_curve, &CompactnessPoint::quality_mean);
     const CompactnessPlot plots[3] = {
-        {"Mean distance to the full mesh (voxels)",
-         "mean distance between the reduced and the unreduced surface, both ways (lower is "
+        {"Mean distance (voxels)",
+         "mean distance between the reduced and the full surface, both ways (lower is "
          "better), against the share of the triangles kept",
-         {{mc_acc, mc_color}, {net_acc, net_color}}},
+         {{mc_acc, mc_color, "MC"}, {net_acc, net_color, net_label}}},
         {"Largest distance (voxels)",
          "largest sampled distance between the reduced and the unreduced surface (lower is "
          "better)",
-         {{mc_max, mc_color}, {net_max, net_color}}},
+         {{mc_max, mc_color, "MC"}, {net_max, net_color, net_label}}},
         {"Mean quality",
          "smallest / largest angle, averaged over the triangles (higher is better)",
-         {{mc_q, mc_color}, {net_q, net_color}}},
+         {{mc_q, mc_color, "MC"}, {net_q, net_color, net_label}}},
     };
     const ImVec2 available = ImGui::GetContentRegionAvail();
     const float width = (available.x - pad * 4) / 3;

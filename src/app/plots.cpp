@@ -245,6 +245,16 @@ void compactness_plot(const char* id, const CompactnessPlot& plot, ImVec2 size,
     const float f = fonts.size;
     ImFont* small = fonts.small;
     draw->AddText(fonts.bold, fonts.bold->FontSize, area.min, kText, plot.title.c_str());
+    // The legend: each series' label in its colour, right-aligned on the title line.
+    float legend_x = area.max.x - 0.6f * f;
+    for (auto s = plot.series.rbegin(); s != plot.series.rend(); ++s) {
+        if (s->label.empty()) continue;
+        const float w = small->CalcTextSizeA(small->FontSize, 1e9f, 0, s->label.c_str()).x;
+        legend_x -= w;
+        draw->AddText(small, small->FontSize, ImVec2(legend_x, area.min.y + 0.1f * f), s->color,
+                      s->label.c_str());
+        legend_x -= 0.8f * f;
+    }
     const ImVec2 box_min(area.min.x + 3.6f * f, area.min.y + 1.5f * f);
     const ImVec2 box_max(area.max.x - 0.6f * f, area.max.y - 1.3f * f);
     if (box_max.x - box_min.x < 10 || box_max.y - box_min.y < 10) return;

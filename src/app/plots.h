@@ -39,6 +39,7 @@ struct CompactnessSeries {
     };
     std::span<const Point> points;
     ImU32 color = IM_COL32(0, 114, 178, 255);
+    std::string label; // the method, in the legend on the title line
 };
 
 struct CompactnessPlot {
