@@ -193,6 +193,11 @@ void App::drain_worker() {
             if (!results_.source_current) load_failed(failed->error);
         }
     }
+    // The compactness takes minutes on a large scan: made only while someone looks at it.
+    if ((equal_count_ || compactness_tab_open_) && results_.generation != compactness_asked_) {
+        worker_->want_compactness(results_.generation);
+        compactness_asked_ = results_.generation;
+    }
     views_->set_mesh(0, shown_mc());
     views_->set_mesh(1, shown_net());
     frame_camera_if_needed();

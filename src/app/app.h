@@ -263,7 +263,9 @@ class App {
     float play_clock_ = 0.0f;             // seconds accumulated towards the next iteration
     bool converge_when_finished_ = false; // "run to convergence" pressed while still running
 
-    bool equal_count_ = false; // the "equal triangle count" switch
+    bool equal_count_ = false;            // the "equal triangle count" switch
+    bool compactness_tab_open_ = false;   // the Compactness tab was drawn in the last frame
+    std::uint64_t compactness_asked_ = 0; // the job whose compactness the worker was asked for
 
     // Camera.
     render::OrbitCamera camera_;

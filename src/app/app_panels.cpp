@@ -605,7 +605,9 @@ void App::draw_bottom_panel(float height) {
             ImGui::EndTabItem();
         }
         record("tab_convergence");
+        compactness_tab_open_ = false;
         if (ImGui::BeginTabItem("Compactness")) {
+            compactness_tab_open_ = true;
             draw_compactness_tab();
             ImGui::EndTabItem();
         }

@@ -157,6 +157,8 @@ struct Worker::Job {
     std::shared_ptr<const PreviewMesh> preview;     // of the net's frames
     int next_to_measure = 0;                        // the next iteration for the measurer
     std::optional<FinishedMessage> finished;        // posted after the last one is measured
+    bool done = false;                              // finish() was called (no relaxation runs)
+    bool compactness_wanted = false, compactness_queued = false;
 };
 
 Worker::Worker(WorkerOptions options)
@@ -190,6 +192,13 @@ void Worker::show_iteration(std::uint64_t generation, int iteration) {
     wake_.notify_one();
 }
 
+void Worker::want_compactness(std::uint64_t generation) {
+    std::lock_guard lock(mutex_);
+    if (generation != latest_generation_) return;
+    compactness_request_ = generation;
+    wake_.notify_one();
+}
+
 void Worker::continue_relaxation(std::uint64_t generation, int extra_iterations) {
     std::lock_guard lock(mutex_);
     if (generation != latest_generation_ || extra_iterations <= 0) return;
@@ -219,7 +228,7 @@ bool Worker::busy() const {
     {
         std::lock_guard lock(mutex_);
         if (working_ || pending_job_.has_value() || continue_request_.has_value() ||
-            view_.pending || measurer_hungry_)
+            compactness_request_.has_value() || view_.pending || measurer_hungry_)
             return true;
     }
     std::lock_guard lock(measure_mutex_);
@@ -318,7 +327,7 @@ void Worker::run(std::stop_token thread_stop) {
     while (!thread_stop.stop_requested()) {
         wake_.wait(lock, thread_stop, [this] {
             return pending_job_.has_value() || continue_request_.has_value() || view_.pending ||
-                   measurer_hungry_;
+                   measurer_hungry_ || compactness_request_.has_value();
         });
         if (thread_stop.stop_requested()) break;
         working_ = true;
@@ -339,6 +348,20 @@ void Worker::run(std::stop_token thread_stop) {
             const std::stop_token stop = job_stop_.get_token();
             lock.unlock();
             relax_further(generation, extra, stop);
+            lock.lock();
+        } else if (compactness_request_) {
+            const std::uint64_t generation = *compactness_request_;
+            compactness_request_.reset();
+            lock.unlock();
+            if (job_ && job_->history && job_->generation == generation) {
+                job_->compactness_wanted = true;
+                // Once the FinishedMessage is on its way: the compactness comes after it.
+                try {
+                    if (job_->done && !job_->finished && !job_->compactness_queued)
+                        queue_compactness(*job_);
+                } catch (const Cancelled&) {
+                }
+            }
             lock.lock();
         } else if (view_.pending) {
             const bool current = job_ && job_->history && job_->generation == view_.generation;
@@ -487,6 +510,8 @@ void Worker::relax_further(std::uint64_t generation, int extra, std::stop_token 
         extra = std::min(extra, std::numeric_limits<int>::max() - first);
         progress_.max_iterations.store(first + extra);
         job.final_frame.reset();
+        job.done = false;
+        job.compactness_queued = false; // the continuation's meshes get their own
         // relax() from the newest positions, the iterations numbered on (the damping schedule
         // goes on), so the history can recompute these iterations too.
         RelaxOptions options = c.options;
@@ -529,6 +554,7 @@ void Worker::after_iteration(Job& job, std::span<const glm::vec3> positions, flo
 // Measures iterations [from, latest] on the measurer, then posts the end of the job: the
 // FinishedMessage comes last, once every number of the job is in.
 void Worker::finish(Job& job, int from, bool converged) {
+    job.done = true;
     job.next_to_measure = from;
     job.finished = FinishedMessage{job.history->latest_iteration(), converged, 0.0};
     feed_measurer(job);
@@ -565,8 +591,13 @@ void Worker::feed_measurer(Job& job) {
              return f;
          }});
     job.finished.reset();
-    // Then, without holding up "finished": the compactness of the last meshes, the job's last
-    // message (empty when there is no mesh to reduce).
+    if (job.compactness_wanted && !job.compactness_queued) queue_compactness(job);
+}
+
+// The compactness of the job's last meshes, after its FinishedMessage (empty when there is no
+// mesh to reduce).
+void Worker::queue_compactness(Job& job) {
+    job.compactness_queued = true;
     const int last = job.history->latest_iteration();
     auto positions =
         std::make_shared<const std::vector<glm::vec3>>(job.history->positions(last, job.stop));

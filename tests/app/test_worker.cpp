@@ -37,7 +37,7 @@ bool finished(const JobResults& r) {
     return r.finished.has_value() || !r.error.empty();
 }
 
-// The job's last message is its compactness, after the FinishedMessage.
+// The compactness, asked for, comes after the FinishedMessage.
 bool ended(const JobResults& r) {
     return r.compactness.has_value() || !r.error.empty();
 }
@@ -144,7 +144,7 @@ TEST(Worker, OneJobGivesThePipelinesResult) {
     JobResults r;
     const JobRequest job = phantom_job("sphere", 24, std::nullopt, 10);
     r.start(worker.request(job));
-    ASSERT_TRUE(pump_until(worker, r, ended));
+    ASSERT_TRUE(pump_until(worker, r, finished));
     ASSERT_TRUE(r.error.empty()) << r.error;
     expect_matches_pipeline(r, job);
     expect_consecutive_iterations(r);
@@ -192,7 +192,7 @@ TEST(Worker, CancelRestartStormEndsWithTheLastRequest) {
         }
         if (i % 11 == 0 && i + 1 < kRequests) worker.show_iteration(r.generation, int(rng() % 5));
     }
-    ASSERT_TRUE(pump_until(worker, r, ended)) << "the last job never finished";
+    ASSERT_TRUE(pump_until(worker, r, finished)) << "the last job never finished";
     ASSERT_TRUE(r.error.empty()) << r.error;
     EXPECT_EQ(r.generation, std::uint64_t(kRequests));
     EXPECT_LE(worker.jobs_started(), std::uint64_t(kRequests));
@@ -541,6 +541,7 @@ TEST(Worker, CompactnessFollowsTheJob) {
     Worker worker;
     JobResults r;
     r.start(worker.request(phantom_job("sphere", 32, std::nullopt, 5)));
+    worker.want_compactness(r.generation); // before the job is done: made once it is
     ASSERT_TRUE(pump_until(worker, r, ended));
     ASSERT_TRUE(r.finished);
     const CompactnessMessage& c = *r.compactness;
@@ -562,4 +563,14 @@ TEST(Worker, CompactnessFollowsTheJob) {
     EXPECT_EQ(c.net_equal->iteration, r.frame->iteration);
     EXPECT_NE(c.mc_equal->geometry, c.net_equal->geometry);
     EXPECT_NE(c.net_equal->geometry, r.frame->geometry);
+
+    // Not asked for: none. Asked for after the end: made then.
+    r.start(worker.request(phantom_job("sphere", 24, std::nullopt, 3)));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    std::this_thread::sleep_for(50ms);
+    r.apply(worker.drain());
+    EXPECT_FALSE(r.compactness);
+    worker.want_compactness(r.generation);
+    ASSERT_TRUE(pump_until(worker, r, ended));
+    EXPECT_EQ(r.compactness->net_curve.front().triangles, r.frame->mesh.triangle_count());
 }

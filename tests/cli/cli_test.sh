@@ -164,6 +164,11 @@ expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --ite
 python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert 'compactness' not in j; assert j['equal_count']=={'triangles':500,'target':500,'requested':500}; assert all(490<=j[m]['triangles']<=500 and j[m]['decimation']['requested']==500 for m in ('mc','snert'))" "$tmp/eq500.json" || fail "compare --equal-count=500"
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count 0
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count many
+# render --equal-count draws the reduced meshes (only where the renderer is built).
+if "$SNERT" render --help >/dev/null 2>&1; then
+    expect_exit 0 "equal triangle count: 400" -- "$SNERT" render phantom:sphere --size 24 --iterations 5 --equal-count 400 --width 320 --height 240 --gl osmesa --out "$tmp/eq.png"
+    [ -s "$tmp/eq.png" ] || fail "render --equal-count wrote no picture"
+fi
 expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --iterations 3
 grep -q "gradient" "$tmp/out" || fail "--mode gradient row missing"
 
@@ -209,7 +214,7 @@ fi
 # Real volumes, when the shared data folder is there.
 data=${SNERT_DATA_DIR:-}
 if [ -n "$data" ] && [ -d "$data" ]; then
-    expect_exit 0 "" -- "$SNERT" compare "$data/HeadMRVolume.mhd" --iso 40 --iterations 5 --json "$tmp/mr.json"
+    expect_exit 0 "" -- "$SNERT" compare "$data/HeadMRVolume.mhd" --iso 40 --iterations 5 --no-compactness --json "$tmp/mr.json"
     python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['snert']['accuracy_reference']=='first-order'; assert j['mc']['triangles']>1000; assert 'iso-surface I = 40' in j['mc']['accuracy_against']" "$tmp/mr.json" || fail "MR compare JSON"
     ct="$data/totalseg_ct_abdomen/example_ct_sm.nii.gz"
     expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --iterations 5
@@ -218,7 +223,7 @@ if [ -n "$data" ] && [ -d "$data" ]; then
     expect_exit 2 "HeadMRVolume" -- "$SNERT" compare "$ct" --labels "$data/HeadMRVolume.mhd" --label 5
     # A label that does not occur: the labels present, with the names the file carries.
     expect_exit 2 "example_seg.nii.gz: label 21 does not occur.*5 liver" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 21
-    expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --json -
+    expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --no-compactness --json -
     python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['provenance']['input']; assert p['label']==5 and p['label_name']=='liver' and p['format']=='NIfTI', p" "$tmp/out" || fail "label provenance"
     expect_exit 2 "--raw: applies to volume files" -- "$SNERT" compare phantom:sphere --raw 64,64,93 --raw-type uint16
     expect_exit 0 "wrote" -- "$SNERT" export "$data/headsq/quarter.1" --raw 64,64,93 --raw-type uint16 --raw-spacing 3.2,3.2,1.5 --iso 500 --iterations 5 --method snert --out "$tmp/head.ply"
