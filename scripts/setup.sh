@@ -11,7 +11,7 @@ packages=(
   libinsighttoolkit5-dev zlib1g-dev libcli11-dev
   xvfb xauth x11-apps imagemagick
   clang clang-format libclang-rt-14-dev
-  tetgen
+  tetgen libmeshoptimizer-dev
   python3-meshio python3-vtk9  # the fe_formats test reads the FE formats back with them
 )
 # `make bench` only (scripts/setup.sh --bench): VTK's flying edges as the peer, and numpy for

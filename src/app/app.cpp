@@ -193,9 +193,28 @@ void App::drain_worker() {
             if (!results_.source_current) load_failed(failed->error);
         }
     }
-    views_->set_mesh(0, results_.mc);
-    views_->set_mesh(1, results_.frame);
+    // The compactness takes minutes on a large scan: made only while someone looks at it.
+    if ((equal_count_ || compactness_tab_open_) && results_.generation != compactness_asked_) {
+        worker_->want_compactness(results_.generation);
+        compactness_asked_ = results_.generation;
+    }
+    views_->set_mesh(0, shown_mc());
+    views_->set_mesh(1, shown_net());
     frame_camera_if_needed();
+}
+
+bool App::showing_equal_count() const {
+    const auto& c = results_.compactness;
+    return equal_count_ && c && c->mc_equal && c->net_equal && results_.frame &&
+           results_.frame->iteration == c->net_equal->iteration;
+}
+
+std::shared_ptr<const DisplayMesh> App::shown_mc() const {
+    return showing_equal_count() ? results_.compactness->mc_equal : results_.mc;
+}
+
+std::shared_ptr<const DisplayMesh> App::shown_net() const {
+    return showing_equal_count() ? results_.compactness->net_equal : results_.frame;
 }
 
 void App::source_loaded(const Source& source) {

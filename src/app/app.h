@@ -177,6 +177,8 @@ class App {
     int shown_iteration() const; // the iteration the slider shows
     bool following() const { return following_; }
     bool playing() const { return playing_; }
+    bool equal_count() const { return equal_count_; }
+    void set_equal_count(bool on) { equal_count_ = on; }
     bool quit_requested() const { return quit_requested_; }
     bool help_open() const { return help_open_; }
     const render::OrbitCamera& camera() const { return camera_; }
@@ -232,6 +234,12 @@ class App {
     void draw_bottom_panel(float height);
     void draw_quality_tab();
     void draw_convergence_tab();
+    void draw_compactness_tab();
+    // The meshes the views and the metrics show: the job's, or with the "equal triangle count"
+    // switch on, both reduced to one count (once measured, and while the last iteration shows).
+    std::shared_ptr<const DisplayMesh> shown_mc() const;
+    std::shared_ptr<const DisplayMesh> shown_net() const;
+    bool showing_equal_count() const;
     void draw_status_bar();
     void draw_help_window();
     void draw_about_window();
@@ -262,6 +270,10 @@ class App {
     bool playing_ = false;
     float play_clock_ = 0.0f;             // seconds accumulated towards the next iteration
     bool converge_when_finished_ = false; // "run to convergence" pressed while still running
+
+    bool equal_count_ = false;            // the "equal triangle count" switch
+    bool compactness_tab_open_ = false;   // the Compactness tab was drawn in the last frame
+    std::uint64_t compactness_asked_ = 0; // the job whose compactness the worker was asked for
 
     // Camera.
     render::OrbitCamera camera_;

@@ -646,30 +646,36 @@ void App::draw_bottom_panel(float height) {
             ImGui::EndTabItem();
         }
         record("tab_convergence");
+        compactness_tab_open_ = false;
+        if (ImGui::BeginTabItem("Compactness")) {
+            compactness_tab_open_ = true;
+            draw_compactness_tab();
+            ImGui::EndTabItem();
+        }
+        record("tab_compactness");
         ImGui::EndTabBar();
     }
     ImGui::EndChild();
 }
 
 void App::draw_quality_tab() {
+    const std::shared_ptr<const DisplayMesh> mc = shown_mc(), net = shown_net();
     std::vector<render::PanelMethod> methods;
-    if (results_.mc)
-        methods.push_back({Method::MarchingCubes, "Marching Cubes", &results_.mc->metrics});
+    if (mc) methods.push_back({Method::MarchingCubes, "Marching Cubes", &mc->metrics});
     // The frame's mesh is measured alone; where the relaxation stands at that iteration comes
     // from the iteration history.
     MethodMetrics frame_metrics;
-    if (results_.frame) {
-        frame_metrics = results_.frame->metrics;
-        const int k = results_.frame->iteration;
+    if (net) {
+        frame_metrics = net->metrics;
+        const int k = net->iteration;
         frame_metrics.iterations = k;
         if (k >= 0 && k < results_.iteration_count())
             frame_metrics.final_max_move = results_.iterations[std::size_t(k)].max_move;
         frame_metrics.converged =
             results_.finished && results_.finished->converged && k == results_.finished->iterations;
-        methods.push_back(
-            {results_.frame->method,
-             std::string(label_of(results_.frame->method)) + ", iteration " + std::to_string(k),
-             &frame_metrics});
+        methods.push_back({net->method,
+                           std::string(label_of(net->method)) + ", iteration " + std::to_string(k),
+                           &frame_metrics});
     }
     if (methods.empty()) {
         ImGui::TextDisabled("  the histograms and the metrics appear when the meshes are ready");
@@ -700,14 +706,13 @@ void App::draw_quality_tab() {
     if (compact) ImGui::PushFont(fonts_.small);
     // A frame not measured yet (a step, a moment ago) has its histogram but no table column.
     std::span<const render::PanelMethod> table_methods = methods;
-    const bool measuring = results_.frame && !results_.frame->metrics_complete;
+    const bool measuring = net && !net->metrics_complete;
     if (measuring) table_methods = table_methods.first(methods.size() - 1);
     render::metrics_table("metrics table", table_methods, groups, table_width - fonts_.size,
                           table_fonts);
     if (measuring)
         ImGui::TextDisabled("measuring %s, iteration %d...",
-                            std::string(label_of(results_.frame->method)).c_str(),
-                            results_.frame->iteration);
+                            std::string(label_of(net->method)).c_str(), net->iteration);
     if (compact) ImGui::PopFont();
     ImGui::EndChild();
 }
@@ -770,6 +775,79 @@ void App::draw_convergence_tab() {
             if (*k != shown_iteration() || following_) show_iteration(*k);
         }
         record("plot_" + std::to_string(i));
+    }
+}
+
+// The equal-count switch and the compactness curves: accuracy and quality against the share of
+// the triangles kept, for both methods (computed by the worker once the job is finished).
+void App::draw_compactness_tab() {
+    const float pad = std::round(0.6f * fonts_.size);
+    ImGui::SetCursorPos(ImVec2(ImGui::GetCursorPosX() + pad, ImGui::GetCursorPosY() + pad));
+    ImGui::Checkbox("Equal triangle count", &equal_count_);
+    record("equal_count");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("show both meshes reduced to the smaller triangle count (meshoptimizer's "
+                          "simplifier, checked: closed, manifold, no self-intersection), every "
+                          "metric measured again; the paper's comparison at the same count");
+    const auto& c = results_.compactness;
+    ImGui::SameLine(0, 2 * pad);
+    if (!c) {
+        ImGui::TextDisabled(results_.finished ? "reducing the meshes..."
+                                              : "the curves appear once the relaxation is done");
+        return;
+    }
+    if (!c->mc_equal || !c->net_equal) {
+        ImGui::TextDisabled("no surface to reduce");
+        return;
+    }
+    ImGui::Text("equal count: %zu triangles (MC %zu refused steps, %s %zu)", c->equal_count,
+                std::size_t(c->mc_report.refusals),
+                std::string(label_of(c->net_equal->method)).c_str(),
+                std::size_t(c->net_report.refusals));
+    if (equal_count_ && !showing_equal_count())
+        ImGui::TextDisabled("  the reduced meshes are of the last iteration: go there to see them");
+    const ImU32 mc_color = render::method_color_u32(Method::MarchingCubes);
+    const ImU32 net_color = render::method_color_u32(c->net_equal->method);
+    const std::string net_label(label_of(c->net_equal->method));
+    auto series = [](const std::vector<CompactnessPoint>& curve, double CompactnessPoint::*field) {
+        std::vector<CompactnessSeries::Point> points;
+        for (const CompactnessPoint& p : curve) points.push_back({p.fraction, float(p.*field)});
+        return points;
+    };
+    const std::vector<CompactnessSeries::Point> mc_acc =
+        series(c->mc_curve, &CompactnessPoint::accuracy_mean);
+    const std::vector<CompactnessSeries::Point> net_acc =
+        series(c->net_curve, &CompactnessPoint::accuracy_mean);
+    const std::vector<CompactnessSeries::Point> mc_max =
+        series(c->mc_curve, &CompactnessPoint::accuracy_max);
+    const std::vector<CompactnessSeries::Point> net_max =
+        series(c->net_curve, &CompactnessPoint::accuracy_max);
+    const std::vector<CompactnessSeries::Point> mc_q =
+        series(c->mc_curve, &CompactnessPoint::quality_mean);
+    const std::vector<CompactnessSeries::Point> net_q =
+        series(c->net_curve, &CompactnessPoint::quality_mean);
+    const CompactnessPlot plots[3] = {
+        {"Mean distance (voxels)",
+         "mean distance between the reduced and the full surface, both ways (lower is "
+         "better), against the share of the triangles kept",
+         {{mc_acc, mc_color, "MC"}, {net_acc, net_color, net_label}}},
+        {"Largest distance (voxels)",
+         "largest sampled distance between the reduced and the unreduced surface (lower is "
+         "better)",
+         {{mc_max, mc_color, "MC"}, {net_max, net_color, net_label}}},
+        {"Mean quality",
+         "smallest / largest angle, averaged over the triangles (higher is better)",
+         {{mc_q, mc_color, "MC"}, {net_q, net_color, net_label}}},
+    };
+    const ImVec2 available = ImGui::GetContentRegionAvail();
+    const float width = (available.x - pad * 4) / 3;
+    const float height = std::max(available.y - pad, 5.0f * fonts_.size);
+    ImGui::SetCursorPos(ImVec2(ImGui::GetCursorPosX() + pad, ImGui::GetCursorPosY() + pad));
+    for (int i = 0; i < 3; ++i) {
+        if (i > 0) ImGui::SameLine(0, pad);
+        const std::string id = "##compactness" + std::to_string(i);
+        compactness_plot(id.c_str(), plots[i], ImVec2(width, height), fonts_);
+        record("compactness_plot_" + std::to_string(i));
     }
 }
 

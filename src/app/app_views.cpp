@@ -147,7 +147,7 @@ void App::draw_views(float width, float height) {
     views_->render(int(std::lround(view_width * scale.x)), int(std::lround(view_height * scale.y)),
                    camera_, draw_style());
 
-    const std::shared_ptr<const DisplayMesh> meshes[2] = {results_.mc, results_.frame};
+    const std::shared_ptr<const DisplayMesh> meshes[2] = {shown_mc(), shown_net()};
     const bool current[2] = {results_.mc_current, results_.frame_current};
     const bool busy = !results_.finished && results_.error.empty();
     for (int i = 0; i < 2; ++i) {

@@ -10,6 +10,7 @@ void JobResults::start(std::uint64_t new_generation) {
     net.reset();
     iterations.clear();
     finished.reset();
+    compactness.reset();
     error.clear();
     mc_current = frame_current = source_current = false;
     frame_recomputed = false;
@@ -42,6 +43,8 @@ bool JobResults::apply(const Message& message) {
                 if (frame && m.mesh && frame->geometry == m.mesh->geometry) frame = m.mesh;
             } else if constexpr (std::is_same_v<T, FinishedMessage>) {
                 finished = m;
+            } else if constexpr (std::is_same_v<T, CompactnessMessage>) {
+                compactness = m;
             } else if constexpr (std::is_same_v<T, FailedMessage>) {
                 error = m.error;
             }

@@ -27,8 +27,9 @@ struct JobResults {
     std::shared_ptr<const DisplayMesh> frame; // the relaxed net at frame->iteration
     bool frame_recomputed = false;
     std::optional<FinishedMessage> finished;
-    std::string error;       // the job failed (one line)
-    bool mc_current = false; // mc / frame / source belong to `generation`
+    std::optional<CompactnessMessage> compactness; // after `finished`
+    std::string error;                             // the job failed (one line)
+    bool mc_current = false;                       // mc / frame / source belong to `generation`
     bool frame_current = false;
     bool source_current = false;
 

@@ -237,4 +237,77 @@ std::optional<float> value_histogram_plot(const char* id, const Histogram& histo
     return std::nullopt;
 }
 
+void compactness_plot(const char* id, const CompactnessPlot& plot, ImVec2 size,
+                      const render::FigureFonts& fonts) {
+    const Area area = place(id, size);
+    if (area.hovered && !plot.hint.empty()) ImGui::SetTooltip("%s", plot.hint.c_str());
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const float f = fonts.size;
+    ImFont* small = fonts.small;
+    draw->AddText(fonts.bold, fonts.bold->FontSize, area.min, kText, plot.title.c_str());
+    // The legend: each series' label in its colour, right-aligned on the title line.
+    float legend_x = area.max.x - 0.6f * f;
+    for (auto s = plot.series.rbegin(); s != plot.series.rend(); ++s) {
+        if (s->label.empty()) continue;
+        const float w = small->CalcTextSizeA(small->FontSize, 1e9f, 0, s->label.c_str()).x;
+        legend_x -= w;
+        draw->AddText(small, small->FontSize, ImVec2(legend_x, area.min.y + 0.1f * f), s->color,
+                      s->label.c_str());
+        legend_x -= 0.8f * f;
+    }
+    const ImVec2 box_min(area.min.x + 3.6f * f, area.min.y + 1.5f * f);
+    const ImVec2 box_max(area.max.x - 0.6f * f, area.max.y - 1.3f * f);
+    if (box_max.x - box_min.x < 10 || box_max.y - box_min.y < 10) return;
+    draw->AddRectFilled(box_min, box_max, kPlotBackground);
+    draw->AddRect(box_min, box_max, kFrame);
+
+    double share_lo = 1.0, share_hi = 1.0;
+    float lo = 1e30f, hi = -1e30f;
+    for (const CompactnessSeries& s : plot.series)
+        for (const CompactnessSeries::Point& p : s.points) {
+            if (!(p.share > 0) || !std::isfinite(p.value)) continue;
+            share_lo = std::min(share_lo, p.share);
+            share_hi = std::max(share_hi, p.share);
+            lo = std::min(lo, p.value);
+            hi = std::max(hi, p.value);
+        }
+    if (lo > hi) lo = 0, hi = 1;
+    const float pad = hi - lo < 1e-9f ? std::max(std::abs(hi) * 0.05f, 1e-6f) : 0.06f * (hi - lo);
+    lo = std::max(lo - pad, lo >= 0 ? 0.0f : lo - pad);
+    hi += pad;
+    const double log_lo = std::log(share_lo),
+                 log_span = std::max(std::log(share_hi) - log_lo, 1e-9);
+    auto x_of = [&](double share) {
+        return box_min.x + (box_max.x - box_min.x) * float((std::log(share) - log_lo) / log_span);
+    };
+    auto y_of = [&](float v) { return box_max.y - (box_max.y - box_min.y) * (v - lo) / (hi - lo); };
+
+    const std::string top = number(hi), bottom = number(lo);
+    draw->AddText(small, small->FontSize, ImVec2(area.min.x, box_min.y), kMuted, top.c_str());
+    draw->AddText(small, small->FontSize, ImVec2(area.min.x, box_max.y - small->FontSize), kMuted,
+                  bottom.c_str());
+    // The levels on the axis below, as percentages.
+    for (const CompactnessSeries& s : plot.series) {
+        for (const CompactnessSeries::Point& p : s.points) {
+            char label[16];
+            std::snprintf(label, sizeof label, "%g %%", 100.0 * p.share);
+            const float w = small->CalcTextSizeA(small->FontSize, 1e9f, 0, label).x;
+            const float x = std::clamp(x_of(p.share) - 0.5f * w, box_min.x, box_max.x - w);
+            draw->AddText(small, small->FontSize, ImVec2(x, box_max.y + 0.15f * f), kMuted, label);
+        }
+        break; // the levels are the same for every series
+    }
+    draw->PushClipRect(box_min, box_max, true);
+    for (const CompactnessSeries& s : plot.series) {
+        std::vector<ImVec2> line;
+        for (const CompactnessSeries::Point& p : s.points)
+            if (p.share > 0 && std::isfinite(p.value))
+                line.push_back(ImVec2(x_of(p.share), y_of(p.value)));
+        std::sort(line.begin(), line.end(), [](ImVec2 a, ImVec2 b) { return a.x < b.x; });
+        if (line.size() > 1) draw->AddPolyline(line.data(), int(line.size()), s.color, 0, 2.0f);
+        for (const ImVec2 q : line) draw->AddCircleFilled(q, 0.22f * f, s.color);
+    }
+    draw->PopClipRect();
+}
+
 } // namespace snert::app

@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <imgui.h>
 
@@ -29,6 +30,28 @@ struct ConvergencePlot {
 // mouse while the left button is pressed on it.
 std::optional<int> convergence_plot(const char* id, const ConvergencePlot& plot, ImVec2 size,
                                     const render::FigureFonts& fonts);
+
+// One method's compactness curve: values against the share of the triangles kept.
+struct CompactnessSeries {
+    struct Point {
+        double share = 1.0; // of the unreduced triangles, (0, 1]
+        float value = 0.0f;
+    };
+    std::span<const Point> points;
+    ImU32 color = IM_COL32(0, 114, 178, 255);
+    std::string label; // the method, in the legend on the title line
+};
+
+struct CompactnessPlot {
+    std::string title;
+    std::string hint; // tooltip
+    std::vector<CompactnessSeries> series;
+};
+
+// Draws the curves into the next `size` of the current window: the share kept on a logarithmic
+// axis (5 % left, 100 % right), a dot at every level, the value range at the left.
+void compactness_plot(const char* id, const CompactnessPlot& plot, ImVec2 size,
+                      const render::FigureFonts& fonts);
 
 // The volume's value histogram (logarithmic counts) with a line at `iso`. Returns the value
 // under the mouse while the left button is pressed on it.

@@ -86,6 +86,38 @@ IterationStats measure_iteration(const RelaxContext& c, const DistanceFunction& 
     return stats;
 }
 
+// The compactness of a finished job: the curves of Marching Cubes' mesh and the net's last one,
+// and both reduced to the smaller count, measured as the pipeline measures (compactness.h).
+CompactnessMessage measure_compactness(const RelaxContext& c, const DistanceFunction& reference,
+                                       const MeasureOptions& what, const DisplayMesh& mc,
+                                       Method net_method, int iteration,
+                                       std::span<const glm::vec3> positions,
+                                       std::uint64_t first_geometry) {
+    const Mesh index_mesh =
+        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+    std::vector<MethodResult> results(2);
+    results[0] = {Method::MarchingCubes, mc.mesh, mc.metrics};
+    results[1].method = net_method;
+    results[1].mesh = mesh_to_world(index_mesh, *c.volume);
+    results[1].metrics = measure(index_mesh, *c.volume, reference, what);
+    CompactnessMessage m;
+    m.mc_curve = compactness_curve(results[0].mesh, *c.volume);
+    m.net_curve = compactness_curve(results[1].mesh, *c.volume);
+    m.equal_count = equal_count_target(results, std::nullopt);
+    if (m.equal_count == 0) return m; // a mesh without triangles: nothing to compare
+    const std::vector<DecimationReport> reports =
+        reduce_to_equal_count(results, m.equal_count, *c.volume, reference, what);
+    m.mc_report = reports[0];
+    m.net_report = reports[1];
+    m.equal_count = std::max(reports[0].achieved, reports[1].achieved); // where one stopped short
+    m.mc_equal = display_mesh(std::move(results[0]), first_geometry);
+    auto net = std::const_pointer_cast<DisplayMesh>(
+        display_mesh(std::move(results[1]), first_geometry + 1, iteration));
+    net->last = true;
+    m.net_equal = net;
+    return m;
+}
+
 } // namespace
 
 const char* stage_name(Stage stage) {
@@ -125,6 +157,8 @@ struct Worker::Job {
     std::shared_ptr<const PreviewMesh> preview;     // of the net's frames
     int next_to_measure = 0;                        // the next iteration for the measurer
     std::optional<FinishedMessage> finished;        // posted after the last one is measured
+    bool done = false;                              // finish() was called (no relaxation runs)
+    bool compactness_wanted = false, compactness_queued = false;
 };
 
 Worker::Worker(WorkerOptions options)
@@ -158,6 +192,13 @@ void Worker::show_iteration(std::uint64_t generation, int iteration) {
     wake_.notify_one();
 }
 
+void Worker::want_compactness(std::uint64_t generation) {
+    std::lock_guard lock(mutex_);
+    if (generation != latest_generation_) return;
+    compactness_request_ = generation;
+    wake_.notify_one();
+}
+
 void Worker::continue_relaxation(std::uint64_t generation, int extra_iterations) {
     std::lock_guard lock(mutex_);
     if (generation != latest_generation_ || extra_iterations <= 0) return;
@@ -187,7 +228,7 @@ bool Worker::busy() const {
     {
         std::lock_guard lock(mutex_);
         if (working_ || pending_job_.has_value() || continue_request_.has_value() ||
-            view_.pending || measurer_hungry_)
+            compactness_request_.has_value() || view_.pending || measurer_hungry_)
             return true;
     }
     std::lock_guard lock(measure_mutex_);
@@ -286,7 +327,7 @@ void Worker::run(std::stop_token thread_stop) {
     while (!thread_stop.stop_requested()) {
         wake_.wait(lock, thread_stop, [this] {
             return pending_job_.has_value() || continue_request_.has_value() || view_.pending ||
-                   measurer_hungry_;
+                   measurer_hungry_ || compactness_request_.has_value();
         });
         if (thread_stop.stop_requested()) break;
         working_ = true;
@@ -307,6 +348,20 @@ void Worker::run(std::stop_token thread_stop) {
             const std::stop_token stop = job_stop_.get_token();
             lock.unlock();
             relax_further(generation, extra, stop);
+            lock.lock();
+        } else if (compactness_request_) {
+            const std::uint64_t generation = *compactness_request_;
+            compactness_request_.reset();
+            lock.unlock();
+            if (job_ && job_->history && job_->generation == generation) {
+                job_->compactness_wanted = true;
+                // Once the FinishedMessage is on its way: the compactness comes after it.
+                try {
+                    if (job_->done && !job_->finished && !job_->compactness_queued)
+                        queue_compactness(*job_);
+                } catch (const Cancelled&) {
+                }
+            }
             lock.lock();
         } else if (view_.pending) {
             const bool current = job_ && job_->history && job_->generation == view_.generation;
@@ -455,6 +510,8 @@ void Worker::relax_further(std::uint64_t generation, int extra, std::stop_token 
         extra = std::min(extra, std::numeric_limits<int>::max() - first);
         progress_.max_iterations.store(first + extra);
         job.final_frame.reset();
+        job.done = false;
+        job.compactness_queued = false; // the continuation's meshes get their own
         // relax() from the newest positions, the iterations numbered on (the damping schedule
         // goes on), so the history can recompute these iterations too.
         RelaxOptions options = c.options;
@@ -497,6 +554,7 @@ void Worker::after_iteration(Job& job, std::span<const glm::vec3> positions, flo
 // Measures iterations [from, latest] on the measurer, then posts the end of the job: the
 // FinishedMessage comes last, once every number of the job is in.
 void Worker::finish(Job& job, int from, bool converged) {
+    job.done = true;
     job.next_to_measure = from;
     job.finished = FinishedMessage{job.history->latest_iteration(), converged, 0.0};
     feed_measurer(job);
@@ -533,6 +591,27 @@ void Worker::feed_measurer(Job& job) {
              return f;
          }});
     job.finished.reset();
+    if (job.compactness_wanted && !job.compactness_queued) queue_compactness(job);
+}
+
+// The compactness of the job's last meshes, after its FinishedMessage (empty when there is no
+// mesh to reduce).
+void Worker::queue_compactness(Job& job) {
+    job.compactness_queued = true;
+    const int last = job.history->latest_iteration();
+    auto positions =
+        std::make_shared<const std::vector<glm::vec3>>(job.history->positions(last, job.stop));
+    const std::uint64_t geometry = next_geometry_ + 1;
+    next_geometry_ += 2;
+    queue_iteration_measure(
+        {job.stop, job.generation,
+         [context = job.context, reference = job.reference, what = job.options.measure,
+          mc = cached_mc_, method = method_of(job.options.relax.mode), last, positions,
+          geometry]() -> std::optional<Payload> {
+             if (!mc) return CompactnessMessage{};
+             return measure_compactness(*context, reference, what, *mc, method, last, *positions,
+                                        geometry);
+         }});
 }
 
 void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {

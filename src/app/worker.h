@@ -23,6 +23,10 @@
 //    follows the newest iteration. While following, a new frame is made only once the UI has
 //    drained the previous one, so a fast relaxation does not spend its time on frames nobody
 //    sees; the last iteration's frame is always sent. Undrained frames are replaced, not queued.
+//  - want_compactness(): once the job (or a continuation) is finished, the measurer reduces its
+//    two last meshes (CompactnessMessage, after the FinishedMessage): the compactness curves and
+//    the equal-count pair. Only on request (the app's Compactness tab or its switch): on a large
+//    scan it takes minutes of the measurer's time.
 //  - continue_relaxation() relaxes the finished job further, up to `extra` iterations or until
 //    the largest move falls under epsilon ("run to convergence").
 //  - The worker never touches GL or ImGui. The destructor cancels and joins.
@@ -54,6 +58,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/compactness.h"
 #include "core/pipeline.h"
 #include "io/source.h"
 #include "iteration_history.h"
@@ -133,8 +138,20 @@ struct FrameMetricsMessage {
     std::shared_ptr<const DisplayMesh> mesh;
 };
 
-using Payload = std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage,
-                             FrameMessage, FinishedMessage, FailedMessage, FrameMetricsMessage>;
+// Compactness of the job's last meshes (core/compactness.h), measured on request after the
+// FinishedMessage: each mesh's compactness curve, and both reduced to the smaller
+// triangle count and measured again (the "equal triangle count" switch shows these). Curves
+// empty and meshes null where a mesh has no triangle.
+struct CompactnessMessage {
+    std::vector<CompactnessPoint> mc_curve, net_curve;
+    std::size_t equal_count = 0;
+    std::shared_ptr<const DisplayMesh> mc_equal, net_equal; // net_equal->iteration: the last
+    DecimationReport mc_report, net_report;
+};
+
+using Payload =
+    std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage, FrameMessage,
+                 FinishedMessage, FailedMessage, FrameMetricsMessage, CompactnessMessage>;
 struct Message {
     std::uint64_t generation = 0;
     Payload payload;
@@ -160,6 +177,9 @@ class Worker {
     void show_iteration(std::uint64_t generation, int iteration);
     // Relaxes job `generation` further from its newest iteration (after it finished).
     void continue_relaxation(std::uint64_t generation, int extra_iterations);
+    // Asks for the CompactnessMessage of job `generation` (and of its continuations): made once
+    // the job is finished, or at once when it is. Repeated requests cost nothing.
+    void want_compactness(std::uint64_t generation);
 
     // Takes the messages posted since the last call, oldest first. Never blocks on a job.
     std::vector<Message> drain();
@@ -191,6 +211,7 @@ class Worker {
     void serve_view(Job& job, std::stop_token stop, bool final_frame);
     void finish(Job& job, int from, bool converged);
     void feed_measurer(Job& job);
+    void queue_compactness(Job& job);
     std::shared_ptr<const DisplayMesh> make_frame(Job& job, int iteration,
                                                   std::span<const glm::vec3> positions);
     std::shared_ptr<const DisplayMesh> measured_frame(const Job& job,
@@ -223,6 +244,7 @@ class Worker {
     std::stop_source job_stop_; // of the running job (and its continuation)
     ViewRequest view_;
     std::optional<std::pair<std::uint64_t, int>> continue_request_;
+    std::optional<std::uint64_t> compactness_request_;
     std::vector<Message> outbox_;
     bool frame_undrained_ = false;
     bool working_ = false;

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "compactness_report.h"
 #include "options.h"
 #include "progress_line.h"
 #include "report.h"
@@ -14,6 +15,8 @@ Runner add_compare(CLI::App& app) {
         InputArgs input;
         PipelineArgs pipeline;
         std::string json;
+        EqualCountArgs equal_count;
+        bool no_compactness = false;
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
@@ -22,6 +25,12 @@ Runner add_compare(CLI::App& app) {
     add_input_options(*command, args->input);
     add_pipeline_options(*command, args->pipeline);
     add_json_option(*command, args->json);
+    add_equal_count_option(*command, args->equal_count);
+    command
+        ->add_flag("--no-compactness", args->no_compactness,
+                   "leave the compactness curve (each mesh reduced to 50, 25, 10 and 5 % of its "
+                   "triangles) out of the JSON, which is faster")
+        ->group("Compactness");
     add_quiet_option(*command, args->quiet);
     command->footer("The table goes to standard output (to standard error with --json -).\n");
     return [args] {
@@ -41,13 +50,36 @@ Runner add_compare(CLI::App& app) {
             require_surface(results.back(), m);
         }
         measure_against_marching_cubes(results, *source.volume);
-        for (const MethodResult& r : results)
-            json[std::string(name_of(r.method))] = method_json(r, m);
+        // The curve starts from the full meshes, before any equal-count reduction.
+        std::vector<std::vector<CompactnessPoint>> curves;
+        std::vector<Method> methods;
+        if (!args->json.empty() && !args->no_compactness) {
+            const Progress curve_progress = progress.stage("compactness");
+            for (std::size_t i = 0; i < results.size(); ++i) {
+                curves.push_back(compactness_curve(results[i].mesh, *source.volume));
+                methods.push_back(results[i].method);
+                curve_progress.update(float(i + 1) / float(results.size()));
+            }
+            for (std::size_t i = 0; i < curves.size(); ++i)
+                json["compactness"][std::string(name_of(methods[i]))] = compactness_json(curves[i]);
+        }
+        std::optional<EqualCountRun> equal;
+        if (const auto request = equal_count_request(args->equal_count)) {
+            equal = reduce_sources_to_equal_count(results, *request, source, pipeline, m);
+            json["equal_count"] = equal_count_json(*equal);
+        }
+        for (std::size_t i = 0; i < results.size(); ++i) {
+            nlohmann::json& j = json[std::string(name_of(results[i].method))];
+            j = method_json(results[i], m);
+            if (equal) j["decimation"] = decimation_json(equal->reports[i]);
+        }
         json["provenance"] =
             provenance_json("compare", input_json(source), iso, inside, pipeline.relax);
         json["provenance"]["iso_from"] = choice.iso ? "--iso" : source.iso_reason;
         std::ostream& table = args->json == "-" ? std::cerr : std::cout;
         print_table(table, m.name + " (iso " + format_number(iso) + ")", results, m);
+        if (equal) print_equal_count(table, *equal, results);
+        if (!curves.empty()) print_compactness(table, methods, curves);
         if (!args->json.empty()) write_json(args->json, json);
         return 0;
     };

@@ -298,6 +298,42 @@ PipelineOptions pipeline_options(const PipelineArgs& a, float iso, InsideIs insi
     return o;
 }
 
+namespace {
+
+// A whole number of triangles >= 1, as text; empty when it is not one.
+std::optional<std::size_t> parse_count(const std::string& text) {
+    if (text.empty() || text.size() > 12 ||
+        !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
+        return std::nullopt;
+    const auto n = std::size_t(std::stoull(text));
+    if (n == 0) return std::nullopt;
+    return n;
+}
+
+} // namespace
+
+void add_equal_count_option(CLI::App& command, EqualCountArgs& args) {
+    args.option =
+        command
+            .add_option("--equal-count", args.value,
+                        "reduce every mesh to N triangles (without N: to the smallest count "
+                        "among them) with meshoptimizer's simplifier, and measure them again")
+            ->expected(0, 1)
+            ->check(CLI::Validator(
+                [](std::string& text) -> std::string {
+                    if (text.empty() || parse_count(text)) return {};
+                    return "must be a whole number of triangles >= 1, not '" + text + "'";
+                },
+                ""))
+            ->type_name("[N]")
+            ->group("Compactness");
+}
+
+std::optional<std::optional<std::size_t>> equal_count_request(const EqualCountArgs& args) {
+    if (!args.option || args.option->count() == 0) return std::nullopt;
+    return std::optional<std::optional<std::size_t>>(parse_count(args.value));
+}
+
 void check_output(const std::string& path, std::initializer_list<const char*> extensions) {
     std::string lower = path;
     std::transform(lower.begin(), lower.end(), lower.begin(),

@@ -112,6 +112,21 @@ void add_pipeline_options(CLI::App& command, PipelineArgs& args, bool with_mode 
 // The pipeline's options for the chosen iso and inside rule.
 PipelineOptions pipeline_options(const PipelineArgs& args, float iso, InsideIs inside);
 
+// ---- Equal triangle count ---------------------------------------------------------------------
+
+// --equal-count [N], as parsed: the option and its text ("" when given without N).
+struct EqualCountArgs {
+    std::string value;
+    CLI::Option* option = nullptr;
+};
+
+// --equal-count [N]: reduce the meshes to N triangles, or without N to the smallest count among
+// them (core/compactness.h). Without N, VOLUME must come first or N be given as --equal-count=N.
+void add_equal_count_option(CLI::App& command, EqualCountArgs& args);
+
+// Empty when --equal-count is not given; else the count asked for (empty: the smallest).
+std::optional<std::optional<std::size_t>> equal_count_request(const EqualCountArgs& args);
+
 // ---- Outputs -----------------------------------------------------------------------------------
 
 // Checks an output path before any work: its extension is one of `extensions` (".png",

@@ -8,6 +8,7 @@
 #include <span>
 
 #include "commands.h"
+#include "compactness_report.h"
 #include "options.h"
 #include "progress_line.h"
 #include "render/context.h"
@@ -77,6 +78,7 @@ Runner add_render(CLI::App& app) {
         CLI::Option* o_iteration = nullptr;
         std::string gl = "auto";
         bool no_caption = false;
+        EqualCountArgs equal_count;
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
@@ -88,6 +90,7 @@ Runner add_render(CLI::App& app) {
     add_input_options(*command, args->input);
     add_pipeline_options(*command, args->pipeline);
     add_quiet_option(*command, args->quiet);
+    add_equal_count_option(*command, args->equal_count);
     render::FigureOptions& f = args->figure;
     const char* group = "Picture";
     command->add_option("--out", args->out, "the picture to write (replaced atomically)")
@@ -199,6 +202,11 @@ Runner add_render(CLI::App& app) {
                                                 progress.stage(std::string(label_of(net)))));
         for (const MethodResult& r : results) require_surface(r, m);
         measure_against_marching_cubes(results, *source.volume);
+        std::optional<EqualCountRun> equal;
+        if (const auto request = equal_count_request(args->equal_count)) {
+            equal = reduce_sources_to_equal_count(results, *request, source, pipeline, m);
+            print_equal_count(std::cerr, *equal, results);
+        }
 
         std::vector<render::FigureMethod> methods;
         methods.reserve(results.size());
@@ -206,8 +214,12 @@ Runner add_render(CLI::App& app) {
             methods.push_back(
                 {r.method, r.method == Method::MarchingCubes ? "" : net_title(r.method, iteration),
                  &r.mesh, &r.metrics});
-        if (captioned)
+        if (captioned) {
             figure.caption = caption(source, iso, inside, pipeline, net, iteration.has_value(), m);
+            if (equal)
+                figure.caption +=
+                    "  \xC2\xB7  reduced to " + std::to_string(equal->target) + " triangles";
+        }
         const render::Image image = render::render_figure(methods, figure);
         render::write_png(args->out, image);
         std::cerr << "wrote " << args->out << ": " << image.width << "x" << image.height << " ("

@@ -233,6 +233,31 @@ TEST(AppUi, ViewsAreRedrawnOnlyWhenSomethingChanges) {
     EXPECT_EQ(h->app().view_render_count(), before + 1);
 }
 
+// The Compactness tab: its curves, and the switch that shows both meshes at one triangle count
+// (the worker's reduced pair), redrawing both views; switched off, the full meshes return.
+TEST(AppUi, EqualCountSwitchShowsTheReducedMeshes) {
+    auto h = make_app(4);
+    ASSERT_TRUE(h->run_until(settled));
+    EXPECT_FALSE(h->app().results().compactness) << "made only when asked for";
+    click_widget(*h, "tab_compactness");
+    ASSERT_TRUE(h->run_until([](const App& app) { return app.results().compactness.has_value(); }));
+    const auto& c = h->app().results().compactness;
+    ASSERT_TRUE(c->mc_equal && c->net_equal);
+    h->frame();
+    EXPECT_TRUE(h->app().widget_rect("compactness_plot_0"));
+    EXPECT_TRUE(h->app().widget_rect("compactness_plot_2"));
+    const int mc_draws = h->app().view_renderer().view_draws(0);
+    const int net_draws = h->app().view_renderer().view_draws(1);
+    click_widget(*h, "equal_count");
+    h->frame();
+    EXPECT_TRUE(h->app().equal_count());
+    EXPECT_GT(h->app().view_renderer().view_draws(0), mc_draws);
+    EXPECT_GT(h->app().view_renderer().view_draws(1), net_draws);
+    click_widget(*h, "equal_count");
+    h->frame();
+    EXPECT_FALSE(h->app().equal_count());
+}
+
 // A step to the next iteration sends the positions, normals and quality of the net, and only
 // the indices of the quads whose diagonal flipped; the Marching Cubes view is not redrawn.
 TEST(AppUi, StepUploadsPositionsOnlyAndRedrawsOneView) {

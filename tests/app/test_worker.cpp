@@ -37,6 +37,11 @@ bool finished(const JobResults& r) {
     return r.finished.has_value() || !r.error.empty();
 }
 
+// The compactness, asked for, comes after the FinishedMessage.
+bool ended(const JobResults& r) {
+    return r.compactness.has_value() || !r.error.empty();
+}
+
 JobRequest phantom_job(const std::string& name, int size, std::optional<float> iso,
                        int iterations) {
     JobRequest job;
@@ -487,7 +492,9 @@ TEST(Worker, IterationsAreAnnouncedThenMeasuredThenTheJobEnds) {
         EXPECT_GT(finished_at, measured[k]) << k;
         EXPECT_TRUE(r.iterations[k].measured) << k;
     }
-    EXPECT_EQ(finished_at, position - 1);
+    // Only the compactness of the last meshes may follow the end of the job.
+    for (std::size_t i = std::size_t(finished_at) + 1; i < all.size(); ++i)
+        EXPECT_TRUE(std::holds_alternative<CompactnessMessage>(all[i].payload)) << i;
     ASSERT_GE(last_frame_at, 0);
     EXPECT_TRUE(r.frame->last && r.frame->metrics_complete);
 }
@@ -526,4 +533,44 @@ TEST(Worker, AskedFrameComesQuickThenMeasured) {
     other->geometry = measured->geometry + 1000;
     r.apply(Message{r.generation, FrameMetricsMessage{other}});
     EXPECT_EQ(r.frame, measured);
+}
+
+// After the job, the measurer reduces the last meshes: the compactness curves and the pair at
+// one triangle count, measured again, as the CLI's compare --equal-count does.
+TEST(Worker, CompactnessFollowsTheJob) {
+    Worker worker;
+    JobResults r;
+    r.start(worker.request(phantom_job("sphere", 32, std::nullopt, 5)));
+    worker.want_compactness(r.generation); // before the job is done: made once it is
+    ASSERT_TRUE(pump_until(worker, r, ended));
+    ASSERT_TRUE(r.finished);
+    const CompactnessMessage& c = *r.compactness;
+    ASSERT_EQ(c.mc_curve.size(), kCompactnessFractions.size());
+    ASSERT_EQ(c.net_curve.size(), kCompactnessFractions.size());
+    EXPECT_EQ(c.mc_curve.front().triangles, r.mc->mesh.triangle_count());
+    EXPECT_EQ(c.net_curve.front().triangles, r.frame->mesh.triangle_count());
+    EXPECT_GT(c.net_curve.back().accuracy_mean, c.net_curve[1].accuracy_mean);
+    EXPECT_EQ(c.equal_count, std::min(r.mc->mesh.triangle_count(), r.frame->mesh.triangle_count()));
+    for (const auto& mesh : {c.mc_equal, c.net_equal}) {
+        ASSERT_TRUE(mesh);
+        EXPECT_LE(mesh->mesh.triangle_count(), c.equal_count);
+        EXPECT_GE(double(mesh->mesh.triangle_count()), 0.99 * double(c.equal_count));
+        EXPECT_EQ(mesh->metrics.triangles, mesh->mesh.triangle_count());
+        EXPECT_EQ(mesh->quality.size(), mesh->mesh.triangle_count());
+        EXPECT_EQ(mesh->normals.size(), mesh->mesh.vertex_count());
+        EXPECT_TRUE(mesh->metrics.fe_ready);
+    }
+    EXPECT_EQ(c.net_equal->iteration, r.frame->iteration);
+    EXPECT_NE(c.mc_equal->geometry, c.net_equal->geometry);
+    EXPECT_NE(c.net_equal->geometry, r.frame->geometry);
+
+    // Not asked for: none. Asked for after the end: made then.
+    r.start(worker.request(phantom_job("sphere", 24, std::nullopt, 3)));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    std::this_thread::sleep_for(50ms);
+    r.apply(worker.drain());
+    EXPECT_FALSE(r.compactness);
+    worker.want_compactness(r.generation);
+    ASSERT_TRUE(pump_until(worker, r, ended));
+    EXPECT_EQ(r.compactness->net_curve.front().triangles, r.frame->mesh.triangle_count());
 }

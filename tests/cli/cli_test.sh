@@ -129,8 +129,10 @@ grep -q "accS over the whole surface" "$tmp/out" || fail "compare table does not
 python3 - "$tmp/c.json" <<'PY' || fail "compare JSON schema"
 import json, sys
 j = json.load(open(sys.argv[1]))
-assert set(j) == {"mc", "sna", "snert", "provenance"}, j.keys()
+assert set(j) == {"mc", "sna", "snert", "provenance", "compactness"}, j.keys()
 prov = j.pop("provenance")
+curve = j.pop("compactness")
+assert set(curve) == {"mc", "sna", "snert"}, curve.keys()
 keys = ["vertices", "triangles", "quality_mean", "quality_min", "quality_hist", "quality60_mean",
         "radius_ratio_mean", "degenerate", "smoothness", "accuracy_vertices", "accuracy_faces",
         "accuracy_surface", "accuracy_against", "watertight", "manifold", "nonmanifold_edges",
@@ -148,6 +150,41 @@ for name, m in j.items():
 assert j["mc"]["self_intersections"] == 0 and j["mc"]["fe_ready"] is True
 assert j["snert"]["quality_mean"] > j["mc"]["quality_mean"]
 PY
+# compare --equal-count: the meshes reduced to one count and measured again; the compactness
+# curve of the full meshes in the JSON.
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count --json "$tmp/eq.json"
+grep -q "equal triangle count" "$tmp/out" || fail "compare --equal-count does not say so"
+python3 - "$tmp/eq.json" <<'PY' || fail "compare --equal-count JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+n = j["equal_count"]["target"]
+assert j["equal_count"]["requested"] is None and j["equal_count"]["triangles"] <= n
+assert n == min(j[m]["decimation"]["original"] for m in ("mc", "snert")), n
+for m in ("mc", "snert"):
+    d, r = j[m]["decimation"], j[m]
+    assert 0.99 * n <= r["triangles"] <= n, (m, r["triangles"], n)
+    assert d["achieved"] == r["triangles"] and d["stalled"] is False
+    assert sum(r["quality_hist"]) == r["triangles"]
+    assert r["watertight"] and r["manifold"] and r["self_intersections"] == 0 and r["fe_ready"]
+    c = j["compactness"][m]
+    assert [p["fraction"] for p in c] == [1.0, 0.5, 0.25, 0.1, 0.05], c
+    full = c[0]["triangles"]
+    assert full == d["original"] and c[0]["accuracy_mean"] == 0 and c[0]["accuracy_max"] == 0
+    for p in c[1:]:
+        assert abs(p["triangles"] - p["fraction"] * full) <= 0.02 * p["fraction"] * full + 2, p
+        assert 0 < p["accuracy_mean"] <= p["accuracy_max"] < 1 and 0 < p["quality_mean"] <= 1, p
+    # Coarser meshes are farther from the full one.
+    assert c[4]["accuracy_mean"] > c[1]["accuracy_mean"], c
+PY
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count=500 --no-compactness --json "$tmp/eq500.json"
+python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert 'compactness' not in j; assert j['equal_count']=={'triangles':500,'target':500,'requested':500}; assert all(490<=j[m]['triangles']<=500 and j[m]['decimation']['requested']==500 for m in ('mc','snert'))" "$tmp/eq500.json" || fail "compare --equal-count=500"
+expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count 0
+expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count many
+# render --equal-count draws the reduced meshes (only where the renderer is built).
+if "$SNERT" render --help >/dev/null 2>&1; then
+    expect_exit 0 "equal triangle count: 400" -- "$SNERT" render phantom:sphere --size 24 --iterations 5 --equal-count 400 --width 320 --height 240 --gl osmesa --out "$tmp/eq.png"
+    [ -s "$tmp/eq.png" ] || fail "render --equal-count wrote no picture"
+fi
 expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --iterations 3
 grep -q "gradient" "$tmp/out" || fail "--mode gradient row missing"
 
@@ -193,7 +230,7 @@ fi
 # Real volumes, when the shared data folder is there.
 data=${SNERT_DATA_DIR:-}
 if [ -n "$data" ] && [ -d "$data" ]; then
-    expect_exit 0 "" -- "$SNERT" compare "$data/HeadMRVolume.mhd" --iso 40 --iterations 5 --json "$tmp/mr.json"
+    expect_exit 0 "" -- "$SNERT" compare "$data/HeadMRVolume.mhd" --iso 40 --iterations 5 --no-compactness --json "$tmp/mr.json"
     python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['snert']['accuracy_reference']=='first-order'; assert j['mc']['triangles']>1000; assert 'iso-surface I = 40' in j['mc']['accuracy_against']" "$tmp/mr.json" || fail "MR compare JSON"
     ct="$data/totalseg_ct_abdomen/example_ct_sm.nii.gz"
     expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --iterations 5
@@ -202,7 +239,7 @@ if [ -n "$data" ] && [ -d "$data" ]; then
     expect_exit 2 "HeadMRVolume" -- "$SNERT" compare "$ct" --labels "$data/HeadMRVolume.mhd" --label 5
     # A label that does not occur: the labels present, with the names the file carries.
     expect_exit 2 "example_seg.nii.gz: label 21 does not occur.*5 liver" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 21
-    expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --json -
+    expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --no-compactness --json -
     python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['provenance']['input']; assert p['label']==5 and p['label_name']=='liver' and p['format']=='NIfTI', p" "$tmp/out" || fail "label provenance"
     expect_exit 2 "--raw: applies to volume files" -- "$SNERT" compare phantom:sphere --raw 64,64,93 --raw-type uint16
     expect_exit 0 "wrote" -- "$SNERT" export "$data/headsq/quarter.1" --raw 64,64,93 --raw-type uint16 --raw-spacing 3.2,3.2,1.5 --iso 500 --iterations 5 --method snert --out "$tmp/head.ply"

@@ -1,0 +1,426 @@
+// Decimation with meshoptimizer's simplifier, checked step by step.
+//
+// This work is based on:
+// Michael Garland and Paul S. Heckbert. Surface simplification using quadric error metrics. 1997
+// (through meshoptimizer's meshopt_simplify, which implements it).
+#include "decimation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_set>
+#include <utility>
+
+#include <meshoptimizer.h>
+
+#include "metrics.h"
+#include "triangle_intersection.h"
+
+namespace snert {
+
+namespace {
+
+using Indices = std::vector<std::uint32_t>;
+
+// A triangle as a key that keeps its orientation: rotated so its smallest index comes first.
+std::uint64_t triangle_key_part(std::uint32_t a, std::uint32_t b) {
+    return (std::uint64_t(a) << 32) | b;
+}
+struct TriangleKey {
+    std::uint32_t a, b, c;
+    bool operator==(const TriangleKey&) const = default;
+};
+struct TriangleKeyHash {
+    std::size_t operator()(const TriangleKey& k) const {
+        return std::hash<std::uint64_t>{}(triangle_key_part(k.a, k.b) * 0x9E3779B97F4A7C15ull ^
+                                          k.c);
+    }
+};
+TriangleKey triangle_key(const std::uint32_t* t) {
+    if (t[1] < t[0] && t[1] < t[2]) return {t[1], t[2], t[0]};
+    if (t[2] < t[0] && t[2] < t[1]) return {t[2], t[0], t[1]};
+    return {t[0], t[1], t[2]};
+}
+
+void mark_boundary(const std::vector<std::uint32_t>& indices, std::vector<std::uint8_t>& boundary);
+
+// What the result is checked against: facts of the input mesh.
+struct Reference {
+    std::unordered_set<TriangleKey, TriangleKeyHash> triangles; // the input's, oriented
+    std::vector<glm::vec3> normals;     // area-weighted vertex normals of the input
+    std::vector<std::uint8_t> boundary; // 1: the vertex is on an input boundary edge
+    bool manifold = false, oriented = false;
+    long euler = 0;
+};
+
+Reference make_reference(const Mesh& mesh) {
+    Reference r;
+    r.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
+    r.boundary.assign(mesh.positions.size(), 0);
+    r.triangles.reserve(mesh.triangle_count());
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const std::uint32_t* i = &mesh.indices[3 * t];
+        r.triangles.insert(triangle_key(i));
+        const glm::vec3 n = glm::cross(mesh.positions[i[1]] - mesh.positions[i[0]],
+                                       mesh.positions[i[2]] - mesh.positions[i[0]]);
+        for (int k = 0; k < 3; ++k) r.normals[i[k]] += n;
+    }
+    mark_boundary(mesh.indices, r.boundary);
+    const Topology topo = topology(mesh);
+    r.manifold = topo.manifold;
+    r.oriented = topo.oriented;
+    r.euler = topo.euler;
+    return r;
+}
+
+// An undirected edge of a triangle, with its direction in that triangle.
+struct HalfEdge {
+    std::uint32_t lo, hi;
+    bool forward; // lo -> hi in the triangle
+    bool operator<(const HalfEdge& o) const {
+        return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : forward < o.forward;
+    }
+};
+
+// Vertices where a candidate breaks a rule, and how many triangles/edges each rule flagged.
+struct Verdict {
+    std::vector<std::uint32_t> vertices;
+    std::size_t topology = 0, intersections = 0, flips = 0, degenerate = 0;
+    bool ok() const { return vertices.empty(); }
+};
+
+void mark_boundary(const Indices& indices, std::vector<std::uint8_t>& boundary) {
+    std::vector<HalfEdge> edges;
+    edges.reserve(indices.size());
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
+            if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
+        }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+        if (j - i == 1) boundary[edges[i].lo] = boundary[edges[i].hi] = 1;
+        i = j;
+    }
+}
+
+// Edges of three or more triangles, edges used twice in one direction, new boundary edges; and
+// the Euler characteristic V - E + F of the candidate.
+void check_edges(const Indices& c, const Reference& ref, Verdict& v) {
+    std::vector<HalfEdge> edges;
+    edges.reserve(c.size());
+    for (std::size_t t = 0; t < c.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = c[t + k], b = c[t + (k + 1) % 3];
+            if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
+        }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+        const std::size_t n = j - i;
+        const std::uint32_t lo = edges[i].lo, hi = edges[i].hi;
+        const bool bad = (n >= 3 && ref.manifold) ||
+                         (n == 2 && ref.oriented && edges[i].forward == edges[i + 1].forward) ||
+                         (n == 1 && !(ref.boundary[lo] && ref.boundary[hi]));
+        if (bad) {
+            ++v.topology;
+            v.vertices.push_back(lo);
+            v.vertices.push_back(hi);
+        }
+        i = j;
+    }
+}
+
+// The connected components of a mesh (over shared vertices), with the Euler characteristic
+// V - E + F and the triangle count of each. A collapse never joins two components, so a
+// candidate's triangles are counted in the components of the mesh it was made from.
+struct Components {
+    std::vector<std::uint32_t> of_vertex; // component of each vertex (unused: any)
+    std::vector<long> euler;
+    std::vector<std::size_t> triangles;
+};
+
+Components components(const Indices& c, std::size_t vertex_count) {
+    std::vector<std::uint32_t> parent(vertex_count);
+    for (std::size_t i = 0; i < vertex_count; ++i) parent[i] = std::uint32_t(i);
+    auto root = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (std::size_t t = 0; t < c.size(); t += 3) {
+        parent[root(c[t + 1])] = root(c[t]);
+        parent[root(c[t + 2])] = root(c[t]);
+    }
+    Components comp;
+    comp.of_vertex.assign(vertex_count, 0);
+    std::vector<std::uint32_t> id(vertex_count, ~0u);
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < vertex_count; ++i) {
+        const std::uint32_t r = root(std::uint32_t(i));
+        if (id[r] == ~0u) id[r] = count++;
+        comp.of_vertex[i] = id[r];
+    }
+    comp.euler.assign(count, 0);
+    comp.triangles.assign(count, 0);
+    return comp;
+}
+
+// Fills `euler` and `triangles` of `comp` for the mesh `c` (whose vertices it labels).
+void count_components(const Indices& c, Components& comp) {
+    std::fill(comp.euler.begin(), comp.euler.end(), 0);
+    std::fill(comp.triangles.begin(), comp.triangles.end(), 0);
+    std::vector<std::uint8_t> seen(comp.of_vertex.size(), 0);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    edges.reserve(c.size());
+    for (std::size_t t = 0; t < c.size(); t += 3) {
+        const std::uint32_t k = comp.of_vertex[c[t]];
+        ++comp.triangles[k];
+        ++comp.euler[k];
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = c[t + e], b = c[t + (e + 1) % 3];
+            if (!seen[a]) {
+                ++comp.euler[k];
+                seen[a] = 1;
+            }
+            if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (const auto& e : edges) --comp.euler[comp.of_vertex[e.first]];
+}
+
+// A vertex is manifold when the far edges of its triangles (its link) form one path or cycle.
+void check_fans(const Indices& c, std::size_t vertex_count, Verdict& v) {
+    std::vector<std::uint32_t> start(vertex_count + 1, 0);
+    for (const std::uint32_t i : c) ++start[i + 1];
+    for (std::size_t i = 0; i < vertex_count; ++i) start[i + 1] += start[i];
+    std::vector<std::uint32_t> tris(c.size());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < c.size(); ++k) tris[fill[c[k]]++] = std::uint32_t(k / 3);
+    std::vector<std::uint32_t> link, parent;
+    std::vector<int> degree;
+    for (std::uint32_t vert = 0; vert < vertex_count; ++vert) {
+        if (start[vert] == start[vert + 1]) continue;
+        link.clear();
+        degree.clear();
+        parent.clear();
+        auto local = [&](std::uint32_t x) {
+            for (std::size_t i = 0; i < link.size(); ++i)
+                if (link[i] == x) return i;
+            link.push_back(x);
+            degree.push_back(0);
+            parent.push_back(std::uint32_t(link.size() - 1));
+            return link.size() - 1;
+        };
+        auto root = [&](std::size_t x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        bool bad = false;
+        for (std::uint32_t k = start[vert]; k < start[vert + 1]; ++k) {
+            const std::uint32_t* t = &c[3 * tris[k]];
+            const int at = t[0] == vert ? 0 : t[1] == vert ? 1 : 2;
+            const std::uint32_t b = t[(at + 1) % 3], d = t[(at + 2) % 3];
+            if (b == vert || d == vert || b == d) {
+                bad = true; // a collapsed triangle
+                break;
+            }
+            const std::size_t lb = local(b), ld = local(d);
+            ++degree[lb];
+            ++degree[ld];
+            parent[root(lb)] = std::uint32_t(root(ld));
+        }
+        std::size_t roots = 0;
+        for (std::size_t i = 0; i < link.size() && !bad; ++i) {
+            bad = degree[i] > 2;
+            roots += root(i) == i;
+        }
+        if (bad || roots != 1) {
+            ++v.topology;
+            v.vertices.push_back(vert);
+        }
+    }
+}
+
+// `before`: the components of the mesh the candidate `c` was made from, counted.
+Verdict check(const Mesh& work, const Indices& c, const Reference& ref, const Indices& from,
+              const Components& before) {
+    Verdict v;
+    std::vector<std::uint8_t> is_new(c.size() / 3, 0);
+    for (std::size_t t = 0; t < is_new.size(); ++t) {
+        const std::uint32_t* i = &c[3 * t];
+        is_new[t] = !ref.triangles.contains(triangle_key(i));
+        if (!is_new[t]) continue;
+        const glm::vec3 a = work.positions[i[0]], b = work.positions[i[1]],
+                        d = work.positions[i[2]];
+        const bool degenerate = triangle_shape(a, b, d).degenerate;
+        // The input's normals around the corners: a new triangle facing against them is flipped.
+        const glm::vec3 around = ref.normals[i[0]] + ref.normals[i[1]] + ref.normals[i[2]];
+        const bool flipped = glm::dot(glm::cross(b - a, d - a), around) <= 0.0f;
+        v.degenerate += degenerate;
+        v.flips += flipped && !degenerate;
+        if (degenerate || flipped) v.vertices.insert(v.vertices.end(), i, i + 3);
+    }
+    check_edges(c, ref, v);
+    if (ref.manifold) check_fans(c, work.positions.size(), v);
+    // Only pairs with a new triangle: what the input already had is not the step's doing.
+    Mesh candidate;
+    candidate.positions = work.positions;
+    candidate.indices = c;
+    const SelfIntersections x = self_intersections(candidate, std::size_t(1) << 16);
+    for (const auto& [s, t] : x.pairs) {
+        if (!is_new[s] && !is_new[t]) continue;
+        ++v.intersections;
+        for (const std::uint32_t u : {s, t})
+            if (is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
+    }
+    // A component that would vanish (a speck of noise collapsed away) is kept whole.
+    Components after = before;
+    count_components(c, after);
+    std::vector<std::uint8_t> keep(before.euler.size(), 0);
+    for (std::size_t k = 0; k < before.euler.size(); ++k)
+        if (before.triangles[k] > 0 && after.triangles[k] == 0) {
+            ++v.topology;
+            keep[k] = 1;
+        }
+    for (const std::uint32_t i : from)
+        if (keep[before.of_vertex[i]]) v.vertices.push_back(i);
+    return v;
+}
+
+void check_indices(const Mesh& mesh) {
+    if (mesh.indices.size() % 3 != 0)
+        throw std::invalid_argument("decimate: index count is not a multiple of 3");
+    for (const std::uint32_t i : mesh.indices)
+        if (i >= mesh.positions.size()) throw std::invalid_argument("decimate: index out of range");
+}
+
+Mesh compact(const Mesh& mesh, const Indices& indices) {
+    std::vector<std::uint32_t> remap(mesh.positions.size(), 0);
+    for (const std::uint32_t i : indices) remap[i] = 1;
+    Mesh out;
+    for (std::size_t i = 0; i < remap.size(); ++i) {
+        if (!remap[i]) continue;
+        remap[i] = std::uint32_t(out.positions.size());
+        out.positions.push_back(mesh.positions[i]);
+    }
+    out.indices.reserve(indices.size());
+    for (const std::uint32_t i : indices) out.indices.push_back(remap[i]);
+    return out;
+}
+
+} // namespace
+
+Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
+    check_indices(mesh);
+    DecimationReport report;
+    report.original = mesh.triangle_count();
+    report.requested = options.target_triangles;
+    const std::size_t target = options.target_triangles;
+    const bool error_only = target == 0;
+    if ((!error_only && report.original <= target) || report.original == 0 ||
+        !(options.max_error > 0.0f)) {
+        report.achieved = report.original;
+        return {mesh, report};
+    }
+    const Reference ref = make_reference(mesh);
+
+    const float* xyz = &mesh.positions[0].x;
+    const std::size_t vertex_count = mesh.positions.size();
+    const float scale = meshopt_simplifyScale(xyz, vertex_count, sizeof(glm::vec3));
+    const double share = std::clamp(options.step_share, 1e-3, 1.0);
+    double step = share; // of the triangles one step removes; halved after a failed step
+    std::vector<std::uint8_t> frozen(vertex_count, 0);
+    Mesh work;
+    work.positions = mesh.positions;
+    Indices current = mesh.indices;
+    Indices free_part, frozen_part, simplified;
+
+    // Freezes `vertices`; when all of them already are, their neighbours in `current`.
+    auto freeze = [&](const std::vector<std::uint32_t>& vertices) {
+        std::size_t added = 0;
+        auto add = [&](std::uint32_t v) {
+            added += frozen[v] == 0;
+            frozen[v] = 1;
+        };
+        for (const std::uint32_t v : vertices) add(v);
+        if (added > 0) return added;
+        std::vector<std::uint8_t> near(vertex_count, 0);
+        for (const std::uint32_t v : vertices) near[v] = 1;
+        for (std::size_t t = 0; t < current.size(); t += 3)
+            if (near[current[t]] || near[current[t + 1]] || near[current[t + 2]])
+                for (int k = 0; k < 3; ++k) add(current[t + k]);
+        return added;
+    };
+
+    while (true) {
+        const std::size_t n = current.size() / 3;
+        Components before = components(current, vertex_count);
+        count_components(current, before);
+        if (!error_only && n <= target) break;
+        const float error_left = options.max_error - report.error;
+        if (!(error_left > 0.0f)) break;
+        const auto removed = std::size_t(std::ceil(double(n) * step));
+        std::size_t goal = removed >= n ? 0 : n - removed;
+        if (!error_only) goal = std::max(goal, target);
+        bool accepted = false;
+        for (int attempt = 0; attempt <= options.max_retries; ++attempt) {
+            free_part.clear();
+            frozen_part.clear();
+            for (std::size_t t = 0; t < current.size(); t += 3) {
+                const bool keep =
+                    frozen[current[t]] || frozen[current[t + 1]] || frozen[current[t + 2]];
+                Indices& part = keep ? frozen_part : free_part;
+                part.insert(part.end(), &current[t], &current[t] + 3);
+            }
+            if (free_part.empty()) break;
+            const std::size_t free_goal =
+                goal > frozen_part.size() / 3 ? goal - frozen_part.size() / 3 : 0;
+            // The frozen triangles are left out: the hole's rim must then stay where it is.
+            const unsigned flags = frozen_part.empty() ? 0u : unsigned(meshopt_SimplifyLockBorder);
+            const float relative =
+                std::isfinite(error_left) && scale > 0.0f ? error_left / scale : 1e10f;
+            simplified.resize(free_part.size());
+            float step_error = 0.0f;
+            simplified.resize(meshopt_simplify(
+                simplified.data(), free_part.data(), free_part.size(), xyz, vertex_count,
+                sizeof(glm::vec3), free_goal * 3, relative, flags, &step_error));
+            if (simplified.size() >= free_part.size()) break; // nothing more to collapse
+            Indices candidate = frozen_part;
+            candidate.insert(candidate.end(), simplified.begin(), simplified.end());
+            const Verdict verdict = check(work, candidate, ref, current, before);
+            if (verdict.ok()) {
+                current = std::move(candidate);
+                report.error += step_error * scale;
+                ++report.steps;
+                accepted = true;
+                break;
+            }
+            ++report.refusals;
+            report.refused_topology += verdict.topology;
+            report.refused_intersections += verdict.intersections;
+            report.refused_flips += verdict.flips;
+            report.refused_degenerate += verdict.degenerate;
+            if (freeze(verdict.vertices) == 0) break;
+        }
+        if (accepted) {
+            step = share;
+            continue;
+        }
+        // Not even with the trouble spots frozen: try a smaller step from the same mesh.
+        step *= 0.5;
+        if (double(n) * step < 1.0) break;
+    }
+    report.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), 1));
+    Decimated result{compact(mesh, current), report};
+    result.report.achieved = result.mesh.triangle_count();
+    result.report.euler_change = topology(result.mesh).euler - ref.euler;
+    if (!error_only && result.report.achieved > target) result.report.stalled = true;
+    return result;
+}
+
+} // namespace snert
