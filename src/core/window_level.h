@@ -30,11 +30,14 @@ WindowLevel window_preset(WindowPreset preset, const Volume& volume);
 // 0..255 grey of a value: black below level - window / 2, white above level + window / 2.
 std::uint8_t window_grey(float value, const WindowLevel& wl);
 
+// The segmentation's colour in the slice view (a green no method colour is near).
+inline constexpr glm::vec3 kSegmentationColour{0.3f, 0.85f, 0.35f};
+
 // The slice as RGBA8 pixels (u fastest, v = 0 first), the mask (one per slice sample, may be
 // empty) blended over the grey in `overlay` (RGB) with opacity `opacity`.
 std::vector<std::uint8_t> slice_pixels(const Slice& slice, const WindowLevel& wl,
                                        std::span<const std::uint8_t> mask,
-                                       glm::vec3 overlay = {1.0f, 0.55f, 0.1f},
+                                       glm::vec3 overlay = kSegmentationColour,
                                        float opacity = 0.35f);
 
 } // namespace snert
