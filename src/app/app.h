@@ -51,6 +51,7 @@
 namespace snert::app {
 
 class ViewRenderer;
+class SlicePanel;
 
 // What the command line (snert gui) or a test asks for; each given item overrides the saved
 // settings for this session (and is saved on exit like a choice made in the window).
@@ -199,6 +200,9 @@ class App {
     // The text of the Open field (tests of its completion).
     const std::string& open_field_text() const { return form_.path; }
     bool about_open() const { return about_open_; }
+    // The slice view beside the 3D views (View menu, V).
+    bool slice_view_shown() const;
+    const SlicePanel& slice_panel() const;
     void show_about() { about_open_ = true; }
 
   private:
@@ -303,6 +307,10 @@ class App {
     };
     std::vector<KeyPress> key_presses_; // since the last frame, oldest first
     UiRect views_rect_;                 // views + titles, for screenshots
+    std::unique_ptr<SlicePanel> slice_panel_;
+    bool slice_view_ = false;
+    void draw_slice_area(float x, float y, float width, float height);
+    void draw_crosshair(const UiRect& view);
 };
 
 } // namespace snert::app
