@@ -310,7 +310,7 @@ class App {
     std::unique_ptr<SlicePanel> slice_panel_;
     bool slice_view_ = false;
     void draw_slice_area(float x, float y, float width, float height);
-    void draw_crosshair(const UiRect& view);
+    void draw_crosshair(const UiRect& view, bool net_view);
 };
 
 } // namespace snert::app

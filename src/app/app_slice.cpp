@@ -15,20 +15,39 @@ void App::draw_slice_area(float x, float y, float width, float height) {
     rects_["slice_view"] = UiRect{x, y, x + width, y + height};
 }
 
-// The slice view's picked point in a 3D view: a yellow ring with a cross, where the camera
-// projects it.
-void App::draw_crosshair(const UiRect& view) {
-    const std::optional<glm::vec3> picked = slice_panel_->crosshair();
-    if (!picked || !results_.source || !results_.source->volume) return;
-    const glm::vec3 world = index_to_world(*results_.source->volume, *picked);
-    const glm::vec4 clip = camera_.projection(view.width() / std::max(1.0f, view.height())) *
-                           camera_.view() * glm::vec4(world, 1.0f);
-    if (!(clip.w > 0.0f)) return;
-    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
-    const ImVec2 p(view.x0 + (0.5f * ndc.x + 0.5f) * view.width(),
-                   view.y0 + (0.5f - 0.5f * ndc.y) * view.height());
-    if (p.x < view.x0 || p.x > view.x1 || p.y < view.y0 || p.y > view.y1) return;
+// The slice view's picked point in a 3D view, a yellow ring with a cross where the camera
+// projects it; in the net's view also the picked node's path over the iterations.
+void App::draw_crosshair(const UiRect& view, bool net_view) {
+    if (!results_.source || !results_.source->volume) return;
+    const Volume& volume = *results_.source->volume;
+    const glm::mat4 to_clip =
+        camera_.projection(view.width() / std::max(1.0f, view.height())) * camera_.view();
+    auto project = [&](glm::vec3 index_point) -> std::optional<ImVec2> {
+        const glm::vec4 clip = to_clip * glm::vec4(index_to_world(volume, index_point), 1.0f);
+        if (!(clip.w > 0.0f)) return std::nullopt;
+        const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+        return ImVec2(view.x0 + (0.5f * ndc.x + 0.5f) * view.width(),
+                      view.y0 + (0.5f - 0.5f * ndc.y) * view.height());
+    };
     ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->PushClipRect(ImVec2(view.x0, view.y0), ImVec2(view.x1, view.y1), true);
+    if (net_view) {
+        const std::vector<glm::vec3>& path = slice_panel_->node_path();
+        std::optional<ImVec2> previous;
+        for (const glm::vec3& q : path) {
+            const std::optional<ImVec2> p = project(q);
+            if (p && previous) draw->AddLine(*previous, *p, IM_COL32(200, 20, 120, 255), 2.0f);
+            if (p) draw->AddCircleFilled(*p, 2.5f, IM_COL32(200, 20, 120, 255));
+            previous = p;
+        }
+    }
+    draw->PopClipRect();
+    const std::optional<glm::vec3> picked = slice_panel_->crosshair();
+    if (!picked) return;
+    const std::optional<ImVec2> at = project(*picked);
+    if (!at) return;
+    const ImVec2 p = *at;
+    if (p.x < view.x0 || p.x > view.x1 || p.y < view.y0 || p.y > view.y1) return;
     const float r = 0.6f * fonts_.size;
     const ImU32 outline = IM_COL32(0, 0, 0, 200), colour = IM_COL32(255, 230, 0, 255);
     for (const auto& [c, t] : {std::pair{outline, 4.0f}, std::pair{colour, 2.0f}}) {

@@ -179,7 +179,8 @@ void App::draw_views(float width, float height) {
         }
         draw->AddImage(ImTextureID(std::intptr_t(views_->texture(i))), view_min, view_max,
                        ImVec2(0, 1), ImVec2(1, 0));
-        if (slice_view_) draw_crosshair(UiRect{view_min.x, view_min.y, view_max.x, view_max.y});
+        if (slice_view_)
+            draw_crosshair(UiRect{view_min.x, view_min.y, view_max.x, view_max.y}, i == 1);
         ImGui::SetCursorScreenPos(view_min);
         ImGui::InvisibleButton(i == 0 ? "##view mc" : "##view net", ImVec2(view_width, view_height),
                                ImGuiButtonFlags_MouseButtonLeft |

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <string>
 
 #include "core/names.h"
@@ -21,17 +22,25 @@ Mesh index_mesh(const Mesh& world, const Volume& volume) {
     return index;
 }
 
-// Iteration `k`'s move of `node`, redone from the net: relax() is deterministic, so positions
-// k - 1 and k equal those the worker had bit for bit.
-std::optional<NodeInspection> inspect(std::shared_ptr<const RelaxContext> c, std::uint32_t node,
-                                      int k) {
+// Iteration `k`'s move of `node` and the node's path over iterations 0..last, redone from the
+// net: relax() is deterministic, so the positions equal those the worker had bit for bit.
+SlicePanel::Inspected inspect(std::shared_ptr<const RelaxContext> c, std::uint32_t node, int k,
+                              int last) {
+    SlicePanel::Inspected r;
     RelaxOptions options = c->options;
-    options.max_iterations = k - 1;
+    options.max_iterations = std::max(k, last);
     options.epsilon = 0.0f;
-    const RelaxResult before = relax(*c->net, c->grey.get(), options);
-    std::vector<glm::vec3> after(before.positions.size());
-    relax_step(*c->net, c->grey.get(), c->options, k, before.positions, after);
-    return inspect_node(*c->net, c->grey.get(), c->options, k, before.positions, after, node);
+    std::vector<glm::vec3> before = c->net->positions, after;
+    r.path.push_back(before[node]);
+    relax(*c->net, c->grey.get(), options,
+          [&](const RelaxIteration& it, std::span<const glm::vec3> positions) {
+              r.path.push_back(positions[node]);
+              if (it.iteration == k - 1) before.assign(positions.begin(), positions.end());
+              if (it.iteration == k) after.assign(positions.begin(), positions.end());
+              return true;
+          });
+    r.inspection = inspect_node(*c->net, c->grey.get(), c->options, k, before, after, node);
+    return r;
 }
 
 } // namespace
@@ -101,19 +110,24 @@ void SlicePanel::update_net(const JobResults& results, int iteration) {
     if (pending_.valid() &&
         pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
         try {
-            inspection_ = pending_.get();
+            Inspected done = pending_.get();
+            inspection_ = std::move(done.inspection);
+            path_ = std::move(done.path);
         } catch (const std::exception&) {
             inspection_.reset();
+            path_.clear();
         }
         inspected_ = pending_key_;
     }
-    const InspectionKey want{context.get(), node_.value_or(0), iteration};
+    const int last = results.iteration_count() - 1;
+    const InspectionKey want{context.get(), node_.value_or(0), iteration, last};
     if (!node_ || !context || iteration < 1 || node_ >= context->net->node_count()) {
         inspection_.reset();
+        path_.clear();
         inspected_ = {};
     } else if (!(want == inspected_) && !pending_.valid()) {
         pending_key_ = want;
-        pending_ = std::async(std::launch::async, inspect, context, *node_, iteration);
+        pending_ = std::async(std::launch::async, inspect, context, *node_, iteration, last);
     }
     scene_.inspection = inspection_ && inspected_ == want ? &*inspection_ : nullptr;
 }

@@ -44,6 +44,14 @@ class SlicePanel {
     std::optional<glm::vec3> crosshair() const;
     std::optional<std::uint32_t> picked_node() const { return node_; }
     const std::optional<NodeInspection>& inspection() const { return inspection_; }
+    // The picked node's positions (index space) at iterations 0, 1, ..., for the 3D view.
+    const std::vector<glm::vec3>& node_path() const { return path_; }
+
+    // What the background task hands back.
+    struct Inspected {
+        NodeInspection inspection;
+        std::vector<glm::vec3> path;
+    };
     SlicePlane plane() const { return plane_; }
     // What the last frame drew, and where (tests click on nodes with these).
     const render::SliceScene& scene() const { return scene_; }
@@ -76,14 +84,16 @@ class SlicePanel {
     std::optional<std::uint32_t> node_;
     std::optional<glm::vec2> crosshair_; // slice coordinates
     std::optional<NodeInspection> inspection_;
+    std::vector<glm::vec3> path_;
     struct InspectionKey {
         const void* context = nullptr;
         std::uint32_t node = 0;
         int iteration = -1;
+        int last = -1;
         bool operator==(const InspectionKey&) const = default;
     };
     InspectionKey inspected_, pending_key_;
-    std::future<std::optional<NodeInspection>> pending_;
+    std::future<Inspected> pending_;
 };
 
 } // namespace snert::app

@@ -91,6 +91,10 @@ TEST(AppSliceView, PicksASliceAndANodeWhoseMoveFollowsTheIteration) {
     EXPECT_EQ(shown.sub_steps[0].terms.dg, expected.sub_steps[0].terms.dg);
     EXPECT_EQ(shown.sub_steps[0].ray_box, expected.sub_steps[0].ray_box);
     EXPECT_EQ(shown.after, expected.after);
+    // The node's path for the 3D view: iterations 0 to 3, ending where the move ended.
+    ASSERT_EQ(slice.node_path().size(), 4u);
+    EXPECT_EQ(slice.node_path()[0], context.net->positions[node]);
+    EXPECT_EQ(slice.node_path()[3], expected.after);
     // Where the app's own frame has the node (its vertices are the nodes): the same point.
     const glm::vec3 world = app.results().frame->mesh.positions[node];
     EXPECT_LT(glm::length(world_to_index(*app.results().source->volume, world) - shown.after),
