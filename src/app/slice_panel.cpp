@@ -91,7 +91,7 @@ void SlicePanel::update_volume(const JobResults& results, InsideIs inside) {
 void SlicePanel::update_net(const JobResults& results, int iteration) {
     const std::shared_ptr<const RelaxContext> context =
         results.net ? results.net->context : nullptr;
-    const DisplayMesh* frame = results.frame.get();
+    const std::shared_ptr<const DisplayMesh>& frame = results.frame;
     // The nodes at the shown iteration: the frame's vertices are the nodes, in node order.
     if (frame != positions_of_) {
         positions_of_ = frame;
@@ -193,10 +193,10 @@ void SlicePanel::draw(const JobResults& results, InsideIs inside, int iteration,
         texture_stale_ = false;
     }
     scene_.image = texture_.id();
-    const DisplayMesh* meshes[2] = {results.mc.get(), results.frame.get()};
+    const std::shared_ptr<const DisplayMesh> meshes[2] = {results.mc, results.frame};
     if (contours_stale_ || meshes[0] != contour_meshes_[0] || meshes[1] != contour_meshes_[1]) {
         scene_.contours.clear();
-        for (const DisplayMesh* m : meshes)
+        for (const std::shared_ptr<const DisplayMesh>& m : meshes)
             if (m)
                 scene_.contours.push_back(
                     {m->method, mesh_cross_section(index_mesh(m->mesh, v), plane_)});

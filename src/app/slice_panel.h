@@ -76,11 +76,12 @@ class SlicePanel {
     render::SliceScene scene_;
     render::SliceMapping mapping_;
     bool contours_stale_ = true;
-    const DisplayMesh* contour_meshes_[2] = {nullptr, nullptr};
+    // Held, not only compared: a new mesh can never take an old one's address unnoticed.
+    std::shared_ptr<const DisplayMesh> contour_meshes_[2];
 
     // The net at the shown iteration, and the picked node's inspection.
     std::vector<glm::vec3> positions_;
-    const DisplayMesh* positions_of_ = nullptr;
+    std::shared_ptr<const DisplayMesh> positions_of_;
     std::optional<std::uint32_t> node_;
     std::optional<glm::vec2> crosshair_; // slice coordinates
     std::optional<NodeInspection> inspection_;
