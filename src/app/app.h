@@ -202,6 +202,8 @@ class App {
     bool about_open() const { return about_open_; }
     // The slice view beside the 3D views (View menu, V).
     bool slice_view_shown() const;
+    // Shows an index-space point (picked in a 3D view) in the slice view, opening it.
+    void show_in_slice(glm::vec3 index_point);
     const SlicePanel& slice_panel() const;
     void show_about() { about_open_ = true; }
 

@@ -9,6 +9,11 @@
 
 namespace snert::app {
 
+void App::show_in_slice(glm::vec3 index_point) {
+    slice_view_ = true;
+    slice_panel_->show_point(index_point);
+}
+
 void App::draw_slice_area(float x, float y, float width, float height) {
     slice_panel_->draw(results_, requested_.inside, shown_iteration(), fonts_, ImVec2(x, y),
                        ImVec2(x + width, y + height));

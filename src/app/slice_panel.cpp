@@ -65,6 +65,21 @@ void SlicePanel::step_slice(int delta) {
     texture_stale_ = contours_stale_ = true;
 }
 
+void SlicePanel::show_point(glm::vec3 index_point) {
+    if (!source_) return;
+    const int n = normal_axis(plane_.axis);
+    const int count = slice_count(*source_->volume, plane_.axis);
+    const int index = std::clamp(int(std::lround(index_point[n])), 0, count - 1);
+    if (index != plane_.index) {
+        plane_.index = index;
+        texture_stale_ = contours_stale_ = true;
+    }
+    crosshair_ = index_to_slice(plane_.axis, index_point);
+    const glm::vec2 lo = window_.min, hi = window_.min + window_.size;
+    if (glm::any(glm::lessThan(*crosshair_, lo)) || glm::any(glm::greaterThan(*crosshair_, hi)))
+        window_.min = *crosshair_ - 0.5f * window_.size;
+}
+
 void SlicePanel::update_volume(const JobResults& results, InsideIs inside) {
     if (!results.source || !results.source->volume) return;
     const bool new_volume = results.source != source_;

@@ -40,6 +40,9 @@ class SlicePanel {
     void draw(const JobResults& results, InsideIs inside, int iteration,
               const render::FigureFonts& fonts, ImVec2 min, ImVec2 max);
     void step_slice(int delta); // PageUp / PageDown
+    // Shows an index-space point picked elsewhere (a 3D view): the slice through its nearest
+    // sample plane, the crosshair on it, and the window moved to hold it.
+    void show_point(glm::vec3 index_point);
     // The picked point (index space) for the 3D views' crosshair; empty: none.
     std::optional<glm::vec3> crosshair() const;
     std::optional<std::uint32_t> picked_node() const { return node_; }

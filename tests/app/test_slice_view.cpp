@@ -111,4 +111,9 @@ TEST(AppSliceView, PicksASliceAndANodeWhoseMoveFollowsTheIteration) {
     h.click(r.x0 + 0.3f * (r.x1 - r.x0) * 0.5f, r.y0 + 0.5f * (r.y1 - r.y0));
     EXPECT_FALSE(slice.picked_node().has_value());
     EXPECT_TRUE(slice.crosshair().has_value());
+    // A point picked elsewhere (a 3D view): its slice and the crosshair on it.
+    app.show_in_slice({3.25f, 8.5f, 8.4f});
+    h.frame();
+    EXPECT_EQ(slice.plane().index, 8);
+    EXPECT_EQ(*slice.crosshair(), glm::vec3(3.25f, 8.5f, 8.0f));
 }
