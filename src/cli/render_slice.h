@@ -17,7 +17,7 @@ struct SliceArgs {
     std::string slice;        // AXIS:INDEX; empty: no slice view
     std::string node;         // I,J,K: a cell; empty: no inspection
     std::string window_level; // W,L; empty: the preset's
-    WindowPreset preset = WindowPreset::Full;
+    WindowPreset preset = WindowPreset::Auto;
 };
 
 // Adds --slice, --node, --window-level and --preset to the render command (group `group`).

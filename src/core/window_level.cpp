@@ -9,6 +9,7 @@ namespace snert {
 
 namespace {
 constexpr Named<WindowPreset> kWindowPresets[] = {
+    {WindowPreset::Auto, "auto", "automatic"},
     {WindowPreset::Full, "full", "full range"},
     {WindowPreset::CtBone, "ct-bone", "CT bone (W 2000, L 400)"},
     {WindowPreset::CtSoftTissue, "ct-soft-tissue", "CT soft tissue (W 400, L 40)"},
@@ -21,11 +22,18 @@ std::span<const Named<WindowPreset>> name_table(WindowPreset) {
 }
 
 WindowLevel window_preset(WindowPreset preset, const Volume& volume) {
+    if (preset == WindowPreset::Auto) {
+        const ValueRange range = value_range(volume);
+        preset = range.min <= -900.0f && range.max >= 200.0f ? WindowPreset::CtSoftTissue
+                 : range.min >= 0.0f                         ? WindowPreset::Mr
+                                                             : WindowPreset::Full;
+    }
     switch (preset) {
     case WindowPreset::CtBone:
         return {2000.0f, 400.0f};
     case WindowPreset::CtSoftTissue:
         return {400.0f, 40.0f};
+    case WindowPreset::Auto:
     case WindowPreset::Full:
     case WindowPreset::Mr:
         break;

@@ -18,13 +18,15 @@ struct WindowLevel {
     bool operator==(const WindowLevel&) const = default;
 };
 
-enum class WindowPreset { Full, CtBone, CtSoftTissue, Mr };
-// "full", "ct-bone", "ct-soft-tissue", "mr" (names.h helpers).
+enum class WindowPreset { Auto, Full, CtBone, CtSoftTissue, Mr };
+// "auto", "full", "ct-bone", "ct-soft-tissue", "mr" (names.h helpers).
 std::span<const Named<WindowPreset>> name_table(WindowPreset);
 
 // CT bone W 2000 / L 400 and soft tissue W 400 / L 40 (Hounsfield units); MR and Full from the
 // volume's values: MR the 1st to 99th percentile of the nonzero samples (an MR's background
-// is 0 and a few bright voxels would grey out the rest), Full the whole range.
+// is 0 and a few bright voxels would grey out the rest), Full the whole range. Auto: soft
+// tissue where the values look like Hounsfield units (air near -1000, bone above 200), MR
+// where no value is negative, else the full range (a phantom's distance map).
 WindowLevel window_preset(WindowPreset preset, const Volume& volume);
 
 // 0..255 grey of a value: black below level - window / 2, white above level + window / 2.

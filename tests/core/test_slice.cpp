@@ -92,6 +92,13 @@ TEST(WindowLevel, GreysAndPresets) {
     const WindowLevel mr = window_preset(WindowPreset::Mr, v);
     EXPECT_NEAR(mr.level - 0.5f * mr.window, 1.0f, 1e-4f); // 1st percentile of 1..99
     EXPECT_NEAR(mr.level + 0.5f * mr.window, 98.0f, 1e-4f);
+    // Auto: MR where nothing is negative, soft tissue on Hounsfield units, else everything.
+    EXPECT_EQ(window_preset(WindowPreset::Auto, v), mr);
+    v.samples[0] = -1000.0f;
+    v.samples[1] = 1200.0f;
+    EXPECT_EQ(window_preset(WindowPreset::Auto, v), (WindowLevel{400.0f, 40.0f}));
+    v.samples[1] = 1.0f;
+    EXPECT_EQ(window_preset(WindowPreset::Auto, v), window_preset(WindowPreset::Full, v));
     Slice s;
     s.size = {2, 1};
     s.values = {0.0f, 100.0f};
