@@ -91,6 +91,7 @@ void SlicePanel::update_volume(const JobResults& results, InsideIs inside) {
     const Segmentation s =
         source_->mask ? *source_->mask : segment_threshold(v, results.iso, inside);
     segmentation_ = s.inside;
+    scene_.segmentation = render::segmentation_legend(*source_, results.iso);
     if (new_volume) {
         plane_.index = slice_count(v, plane_.axis) / 2;
         window_level_ = window_preset(WindowPreset(preset_), v);

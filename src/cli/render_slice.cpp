@@ -176,6 +176,7 @@ int run_slice_render(const SliceRender& r) {
     scene.spacing = {volume.spacing[axes.x], volume.spacing[axes.y]};
     const Slice slice = extract_slice(volume, requested);
     scene.inside = extract_slice_mask(segmentation.inside, volume.dims, requested);
+    scene.segmentation = render::segmentation_legend(source, iso);
     const WindowLevel window = wl.value_or(window_preset(r.slice.preset, volume));
     figure.pixels = slice_pixels(slice, window, scene.inside);
     scene.contours.push_back(

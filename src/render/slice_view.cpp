@@ -82,6 +82,18 @@ void dashed_line(ImDrawList* draw, ImVec2 a, ImVec2 b, ImU32 colour, float thick
 
 } // namespace
 
+std::string segmentation_legend(const Source& source, float iso) {
+    if (source.mask && source.spec.label) {
+        std::string text = "label " + std::to_string(*source.spec.label);
+        for (const LabelEntry& e : source.labels_present)
+            if (e.value == *source.spec.label && !e.name.empty()) text += " " + e.name;
+        return text + " (label map)";
+    }
+    char text[64];
+    std::snprintf(text, sizeof text, "inside at iso %g", double(iso));
+    return text;
+}
+
 SliceWindow whole_slice(glm::ivec2 size) {
     return {glm::vec2(-0.5f), glm::vec2(size)};
 }
@@ -266,7 +278,7 @@ float draw_slice_legend(ImDrawList* draw, ImVec2 min, float width, const SliceSc
               line_icon(method_color_u32(c.method), 3.0f));
     }
     if (!scene.inside.empty())
-        entry("segmentation (inside)", [&](ImVec2 a, ImVec2 b) {
+        entry(scene.segmentation, [&](ImVec2 a, ImVec2 b) {
             draw->AddRectFilled(ImVec2(a.x, a.y - 0.4f * f), ImVec2(b.x, b.y + 0.4f * f),
                                 kSegmentation);
         });

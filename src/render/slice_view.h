@@ -21,6 +21,7 @@
 #include "core/node_inspection.h"
 #include "core/slice.h"
 #include "fonts.h"
+#include "io/source.h"
 
 namespace snert::render {
 
@@ -39,15 +40,20 @@ struct SliceNetView {
 
 struct SliceScene {
     SlicePlane plane;
-    glm::ivec2 size{0};                 // samples along u and v
-    glm::vec2 spacing{1.0f};            // world distance between samples along u and v
-    ImTextureID image = nullptr;        // the slice's pixels (slice_pixels, SliceTexture)
-    std::vector<std::uint8_t> inside;   // per slice sample (0/1), for the voxel dots; may be empty
-    std::vector<SliceContour> contours; // Marching Cubes first
+    glm::ivec2 size{0};               // samples along u and v
+    glm::vec2 spacing{1.0f};          // world distance between samples along u and v
+    ImTextureID image = nullptr;      // the slice's pixels (slice_pixels, SliceTexture)
+    std::vector<std::uint8_t> inside; // per slice sample (0/1), for the voxel dots; may be empty
+    std::string segmentation = "segmentation (inside)"; // its legend entry (segmentation_legend)
+    std::vector<SliceContour> contours;                 // Marching Cubes first
     SliceNetView net;
     const NodeInspection* inspection = nullptr; // not owned; the node's last move
     std::optional<glm::vec2> crosshair;         // slice coordinates
 };
+
+// The legend entry of a source's segmentation: "label 5 liver (label map)" for a label's mask,
+// else "inside at iso V".
+std::string segmentation_legend(const Source& source, float iso);
 
 // The part of the slice shown: u in [min.x, min.x + size.x], v likewise (sample u covers
 // [u - 0.5, u + 0.5]).
