@@ -313,6 +313,7 @@ class App {
     bool slice_view_ = false;
     void draw_slice_area(float x, float y, float width, float height);
     void draw_crosshair(const UiRect& view, bool net_view);
+    void pick_for_slice(const UiRect& view, bool net_view);
 };
 
 } // namespace snert::app

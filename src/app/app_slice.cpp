@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <imgui.h>
 
+#include "core/ray_pick.h"
 #include "slice_panel.h"
 
 namespace snert::app {
@@ -12,6 +13,39 @@ namespace snert::app {
 void App::show_in_slice(glm::vec3 index_point) {
     slice_view_ = true;
     slice_panel_->show_point(index_point);
+}
+
+// A click (no drag) in a 3D view: the surface point under the pointer goes to the slice view;
+// in the net's view the node nearest to it is picked and inspected.
+void App::pick_for_slice(const UiRect& view, bool net_view) {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (!ImGui::IsItemDeactivated() || !ImGui::IsMouseReleased(ImGuiMouseButton_Left) ||
+        io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left] > 16.0f)
+        return;
+    const std::shared_ptr<const DisplayMesh>& shown = net_view ? results_.frame : results_.mc;
+    if (!shown || !results_.source || !results_.source->volume) return;
+    const glm::mat4 inverse = glm::inverse(
+        camera_.projection(view.width() / std::max(1.0f, view.height())) * camera_.view());
+    const glm::vec2 ndc(2.0f * (io.MousePos.x - view.x0) / view.width() - 1.0f,
+                        1.0f - 2.0f * (io.MousePos.y - view.y0) / view.height());
+    glm::vec4 a = inverse * glm::vec4(ndc, -1.0f, 1.0f), b = inverse * glm::vec4(ndc, 1.0f, 1.0f);
+    a /= a.w;
+    b /= b.w;
+    const std::optional<RayHit> hit =
+        first_hit(shown->mesh, glm::vec3(a), glm::vec3(b) - glm::vec3(a));
+    if (!hit) return;
+    const Volume& volume = *results_.source->volume;
+    slice_view_ = true;
+    const std::shared_ptr<const RelaxContext> context =
+        results_.net ? results_.net->context : nullptr;
+    // The net's mesh vertices are its nodes, in node order.
+    if (net_view && context && shown->mesh.positions.size() == context->net->node_count()) {
+        const std::uint32_t node = hit->nearest_vertex;
+        slice_panel_->show_node(node, context->net->cells[node],
+                                world_to_index(volume, shown->mesh.positions[node]));
+        return;
+    }
+    slice_panel_->show_point(world_to_index(volume, hit->point));
 }
 
 void App::draw_slice_area(float x, float y, float width, float height) {

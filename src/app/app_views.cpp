@@ -188,6 +188,8 @@ void App::draw_views(float width, float height) {
                                    ImGuiButtonFlags_MouseButtonMiddle);
         record(i == 0 ? "view_mc" : "view_net");
         handle_view_input(UiRect{view_min.x, view_min.y, view_max.x, view_max.y});
+        if (slice_view_)
+            pick_for_slice(UiRect{view_min.x, view_min.y, view_max.x, view_max.y}, i == 1);
 
         // Overlays: what is happening when there is nothing (yet) to see.
         if (!meshes[i]) {

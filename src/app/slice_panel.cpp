@@ -80,6 +80,19 @@ void SlicePanel::show_point(glm::vec3 index_point) {
         window_.min = *crosshair_ - 0.5f * window_.size;
 }
 
+void SlicePanel::show_node(std::uint32_t node, glm::ivec3 cell, glm::vec3 position) {
+    if (!source_) return;
+    const int n = normal_axis(plane_.axis);
+    show_point(position);
+    const int count = slice_count(*source_->volume, plane_.axis);
+    const int layer = std::clamp(cell[n], 0, count - 1);
+    if (layer != plane_.index) {
+        plane_.index = layer;
+        texture_stale_ = contours_stale_ = true;
+    }
+    node_ = node;
+}
+
 void SlicePanel::update_volume(const JobResults& results, InsideIs inside) {
     if (!results.source || !results.source->volume) return;
     const bool new_volume = results.source != source_;

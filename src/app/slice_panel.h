@@ -43,6 +43,9 @@ class SlicePanel {
     // Shows an index-space point picked elsewhere (a 3D view): the slice through its nearest
     // sample plane, the crosshair on it, and the window moved to hold it.
     void show_point(glm::vec3 index_point);
+    // Picks `node` (of cell `cell`, at `position`, index space) as a click in a 3D view does:
+    // the slice through its cell's layer, the node inspected.
+    void show_node(std::uint32_t node, glm::ivec3 cell, glm::vec3 position);
     // The picked point (index space) for the 3D views' crosshair; empty: none.
     std::optional<glm::vec3> crosshair() const;
     std::optional<std::uint32_t> picked_node() const { return node_; }

@@ -116,4 +116,15 @@ TEST(AppSliceView, PicksASliceAndANodeWhoseMoveFollowsTheIteration) {
     h.frame();
     EXPECT_EQ(slice.plane().index, 8);
     EXPECT_EQ(*slice.crosshair(), glm::vec3(3.25f, 8.5f, 8.0f));
+    // A click on the net's 3D view picks the node under the pointer and shows its layer.
+    const UiRect net_view = *app.widget_rect("view_net");
+    h.click(net_view.centre_x(), net_view.centre_y());
+    h.frame();
+    ASSERT_TRUE(slice.picked_node().has_value());
+    EXPECT_EQ(slice.plane().index, context.net->cells[*slice.picked_node()].z);
+    // It is the node nearest to the view's centre among the sphere's front nodes: on the near
+    // half of the sphere as the camera sees it.
+    const glm::vec3 centre(5.6f, 5.45f, 5.3f);
+    const glm::vec3 eye = world_to_index(*app.results().source->volume, app.camera().eye());
+    EXPECT_GT(glm::dot(context.net->positions[*slice.picked_node()] - centre, eye - centre), 0.0f);
 }
