@@ -25,20 +25,22 @@ Mesh index_mesh(const Mesh& world, const Volume& volume) {
 // Iteration `k`'s move of `node` and the node's path over iterations 0..last, redone from the
 // net: relax() is deterministic, so the positions equal those the worker had bit for bit.
 SlicePanel::Inspected inspect(std::shared_ptr<const RelaxContext> c, std::uint32_t node, int k,
-                              int last) {
+                              int last, std::stop_token stop) {
     SlicePanel::Inspected r;
     RelaxOptions options = c->options;
     options.max_iterations = std::max(k, last);
     options.epsilon = 0.0f;
     std::vector<glm::vec3> before = c->net->positions, after;
     r.path.push_back(before[node]);
-    relax(*c->net, c->grey.get(), options,
-          [&](const RelaxIteration& it, std::span<const glm::vec3> positions) {
-              r.path.push_back(positions[node]);
-              if (it.iteration == k - 1) before.assign(positions.begin(), positions.end());
-              if (it.iteration == k) after.assign(positions.begin(), positions.end());
-              return true;
-          });
+    relax(
+        *c->net, c->grey.get(), options,
+        [&](const RelaxIteration& it, std::span<const glm::vec3> positions) {
+            r.path.push_back(positions[node]);
+            if (it.iteration == k - 1) before.assign(positions.begin(), positions.end());
+            if (it.iteration == k) after.assign(positions.begin(), positions.end());
+            return true;
+        },
+        Progress{stop, {}});
     r.inspection = inspect_node(*c->net, c->grey.get(), c->options, k, before, after, node);
     return r;
 }
@@ -48,6 +50,8 @@ SlicePanel::Inspected inspect(std::shared_ptr<const RelaxContext> c, std::uint32
 SlicePanel::SlicePanel() = default;
 
 SlicePanel::~SlicePanel() {
+    // A long inspection (a large net, many iterations) stops at its next iteration.
+    stop_.request_stop();
     if (pending_.valid()) pending_.wait();
 }
 
@@ -156,7 +160,8 @@ void SlicePanel::update_net(const JobResults& results, int iteration) {
         inspected_ = {};
     } else if (!(want == inspected_) && !pending_.valid()) {
         pending_key_ = want;
-        pending_ = std::async(std::launch::async, inspect, context, *node_, iteration, last);
+        pending_ = std::async(std::launch::async, inspect, context, *node_, iteration, last,
+                              stop_.get_token());
     }
     scene_.inspection = inspection_ && inspected_ == want ? &*inspection_ : nullptr;
 }

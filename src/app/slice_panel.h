@@ -13,6 +13,7 @@
 #include <future>
 #include <memory>
 #include <optional>
+#include <stop_token>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -101,6 +102,7 @@ class SlicePanel {
     };
     InspectionKey inspected_, pending_key_;
     std::future<Inspected> pending_;
+    std::stop_source stop_; // asked to stop when the panel goes
 };
 
 } // namespace snert::app
