@@ -231,9 +231,7 @@ void SlicePanel::draw(const JobResults& results, InsideIs inside, int iteration,
     if (contours_stale_ || meshes[0] != contour_meshes_[0] || meshes[1] != contour_meshes_[1]) {
         scene_.contours.clear();
         for (const std::shared_ptr<const DisplayMesh>& m : meshes)
-            if (m)
-                scene_.contours.push_back(
-                    {m->method, mesh_cross_section(index_mesh(m->mesh, v), plane_)});
+            if (m) scene_.contours.push_back({m->method, mesh_cross_section(m->mesh, v, plane_)});
         contour_meshes_[0] = meshes[0];
         contour_meshes_[1] = meshes[1];
         contours_stale_ = false;

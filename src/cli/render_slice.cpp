@@ -67,12 +67,6 @@ std::string number(float v) {
     return text;
 }
 
-Mesh to_index(const Mesh& world, const Volume& volume) {
-    Mesh index = world;
-    for (glm::vec3& p : index.positions) p = world_to_index(volume, p);
-    return index;
-}
-
 } // namespace
 
 void add_slice_options(CLI::App& command, SliceArgs& args, const char* group) {
@@ -180,9 +174,8 @@ int run_slice_render(const SliceRender& r) {
     const WindowLevel window = wl.value_or(window_preset(r.slice.preset, volume));
     figure.pixels = slice_pixels(slice, window, scene.inside);
     scene.contours.push_back(
-        {Method::MarchingCubes, mesh_cross_section(to_index(mc.mesh, volume), requested)});
-    scene.contours.push_back(
-        {net_method, mesh_cross_section(to_index(relaxed.mesh, volume), requested)});
+        {Method::MarchingCubes, mesh_cross_section(mc.mesh, volume, requested)});
+    scene.contours.push_back({net_method, mesh_cross_section(relaxed.mesh, volume, requested)});
     scene.net = {net_method, net.get(), after, net_in_slice(*net, requested)};
 
     std::optional<NodeInspection> inspection;

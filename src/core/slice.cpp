@@ -120,32 +120,48 @@ std::vector<std::uint8_t> extract_slice_mask(std::span<const std::uint8_t> mask,
     return out;
 }
 
-std::vector<Segment2> mesh_cross_section(const Mesh& index_mesh, const SlicePlane& plane) {
+namespace {
+
+// The cross-section of a mesh whose vertex v lies at index-space point to_index(v): the
+// signed distance to the plane per vertex once, the ends of crossing edges mapped back.
+template <class ToIndex>
+std::vector<Segment2> cross_section(const Mesh& mesh, const SlicePlane& plane, ToIndex to_index) {
     const int n = normal_axis(plane.axis);
-    const double level = plane.index;
+    std::vector<double> h(mesh.positions.size());
+    for (std::size_t i = 0; i < h.size(); ++i) h[i] = to_index(i)[n] - double(plane.index);
     std::vector<Segment2> out;
-    const auto& P = index_mesh.positions;
-    for (std::size_t t = 0; t + 2 < index_mesh.indices.size(); t += 3) {
-        glm::dvec3 q[3];
-        double h[3];
-        for (int k = 0; k < 3; ++k) {
-            q[k] = glm::dvec3(P[index_mesh.indices[t + std::size_t(k)]]);
-            h[k] = q[k][n] - level;
-        }
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const std::uint32_t v[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
         // The points where the triangle's edges change side (on the plane counts as above).
         glm::vec2 ends[2];
         int count = 0;
         for (int k = 0; k < 3 && count < 2; ++k) {
-            const int l = (k + 1) % 3;
-            const bool above_k = h[k] >= 0.0, above_l = h[l] >= 0.0;
-            if (above_k == above_l) continue;
-            const double s = h[k] / (h[k] - h[l]);
-            ends[count++] = index_to_slice(plane.axis, glm::vec3(q[k] + s * (q[l] - q[k])));
+            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+            if ((h[a] >= 0.0) == (h[b] >= 0.0)) continue;
+            const double s = h[a] / (h[a] - h[b]);
+            const glm::dvec3 pa = to_index(a), pb = to_index(b);
+            ends[count++] = index_to_slice(plane.axis, glm::vec3(pa + s * (pb - pa)));
         }
         // A triangle touching the plane at one vertex only gives a point: no segment.
         if (count == 2 && ends[0] != ends[1]) out.push_back({ends[0], ends[1]});
     }
     return out;
+}
+
+} // namespace
+
+std::vector<Segment2> mesh_cross_section(const Mesh& index_mesh, const SlicePlane& plane) {
+    return cross_section(index_mesh, plane,
+                         [&](std::size_t i) { return glm::dvec3(index_mesh.positions[i]); });
+}
+
+std::vector<Segment2> mesh_cross_section(const Mesh& world_mesh, const Volume& volume,
+                                         const SlicePlane& plane) {
+    const glm::dmat3 inverse = glm::inverse(glm::dmat3(index_to_world_linear(volume)));
+    const glm::dvec3 origin(volume.origin);
+    return cross_section(world_mesh, plane, [&](std::size_t i) {
+        return inverse * (glm::dvec3(world_mesh.positions[i]) - origin);
+    });
 }
 
 SliceNet net_in_slice(const SurfaceNet& net, const SlicePlane& plane) {

@@ -65,6 +65,10 @@ struct Segment2 {
 // crosses it. A vertex on the plane counts as above it, so an edge lying in the plane is drawn
 // once (by the triangle below it) and a triangle touching the plane at a vertex gives none.
 std::vector<Segment2> mesh_cross_section(const Mesh& index_mesh, const SlicePlane& plane);
+// The same for a mesh in world units on `volume`'s grid (the pipeline's meshes), without
+// copying it to index space: only the crossing edges' ends are mapped back.
+std::vector<Segment2> mesh_cross_section(const Mesh& world_mesh, const Volume& volume,
+                                         const SlicePlane& plane);
 
 // The part of a net in the slice's layer of cells (see the top of the file).
 struct SliceNet {

@@ -57,6 +57,20 @@ TEST(Slice, CrossSectionOfTheSmallSphereIsItsCircle) {
         }
     // A closed curve: every end point is shared by two segments.
     for (const auto& [point, count] : ends) EXPECT_EQ(count, 2);
+    // The same curve from the mesh in world units on a grid with spacing, origin and a
+    // mirrored axis, mapped back to index space.
+    Volume grid = p.volume;
+    grid.spacing = {0.8f, 1.0f, 2.5f};
+    grid.origin = {10.0f, -4.0f, 3.0f};
+    grid.direction = glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1));
+    Mesh world = mc;
+    for (glm::vec3& q : world.positions) q = index_to_world(grid, q);
+    const std::vector<Segment2> again = mesh_cross_section(world, grid, plane);
+    ASSERT_EQ(again.size(), cut.size());
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+        EXPECT_LT(glm::length(again[i].a - cut[i].a), 1e-4f);
+        EXPECT_LT(glm::length(again[i].b - cut[i].b), 1e-4f);
+    }
 }
 
 TEST(Slice, NetLayerNodesLinksAndSurfaceCells) {
