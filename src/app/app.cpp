@@ -15,6 +15,7 @@
 #include "io/mesh_export.h"
 #include "path_completion.h"
 #include "render/panels.h"
+#include "slice_panel.h"
 #include "view_renderer.h"
 
 namespace snert::app {
@@ -54,7 +55,8 @@ void apply_app_style(ImGuiStyle& style, float font_px) {
 
 } // namespace
 
-App::App(AppOptions options) : options_(std::move(options)) {
+App::App(AppOptions options)
+    : options_(std::move(options)), slice_panel_(std::make_unique<SlicePanel>()) {
     settings_ = load_settings(options_.settings_path);
     Parameters& p = settings_.parameters;
     // The saved input loaded in its session (only such inputs are saved): what a failed open
@@ -92,6 +94,14 @@ App::App(AppOptions options) : options_(std::move(options)) {
 }
 
 App::~App() = default;
+
+bool App::slice_view_shown() const {
+    return slice_view_;
+}
+
+const SlicePanel& App::slice_panel() const {
+    return *slice_panel_;
+}
 
 void App::frame() {
     const float dt = ImGui::GetIO().DeltaTime;
@@ -578,6 +588,13 @@ void App::perform(Action action) {
         break;
     case Action::ToggleBottomPanel:
         settings_.layout.show_bottom_panel = !settings_.layout.show_bottom_panel;
+        break;
+    case Action::ToggleSliceView:
+        slice_view_ = !slice_view_;
+        break;
+    case Action::NextSlice:
+    case Action::PreviousSlice:
+        slice_panel_->step_slice(action == Action::NextSlice ? +1 : -1);
         break;
     case Action::Help:
         help_open_ = !help_open_;

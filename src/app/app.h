@@ -52,6 +52,7 @@
 namespace snert::app {
 
 class ViewRenderer;
+class SlicePanel;
 
 // What the command line (snert gui) or a test asks for; each given item overrides the saved
 // settings for this session (and is saved on exit like a choice made in the window).
@@ -208,6 +209,11 @@ class App {
     // The text of the Open field (tests of its completion).
     const std::string& open_field_text() const { return form_.path; }
     bool about_open() const { return about_open_; }
+    // The slice view beside the 3D views (View menu, V).
+    bool slice_view_shown() const;
+    // Shows an index-space point (picked in a 3D view) in the slice view, opening it.
+    void show_in_slice(glm::vec3 index_point);
+    const SlicePanel& slice_panel() const;
     void show_about() { about_open_ = true; }
 
   private:
@@ -323,6 +329,11 @@ class App {
     };
     std::vector<KeyPress> key_presses_; // since the last frame, oldest first
     UiRect views_rect_;                 // views + titles, for screenshots
+    std::unique_ptr<SlicePanel> slice_panel_;
+    bool slice_view_ = false;
+    void draw_slice_area(float x, float y, float width, float height);
+    void draw_crosshair(const UiRect& view, bool net_view);
+    void pick_for_slice(const UiRect& view, bool net_view);
 };
 
 } // namespace snert::app

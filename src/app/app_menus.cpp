@@ -115,6 +115,7 @@ void App::draw_menu_bar() {
                     settings_.layout.show_side_panel);
         menu_action(*this, "Bottom panel", Action::ToggleBottomPanel,
                     settings_.layout.show_bottom_panel);
+        menu_action(*this, "Slice view", Action::ToggleSliceView, slice_view_);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Iterations")) {

@@ -134,6 +134,17 @@ void App::draw_toolbar() {
 
 void App::draw_views(float width, float height) {
     const float f = fonts_.size;
+    if (slice_view_) {
+        // The slice view takes the right part; the 3D views keep at least 16 lines of width.
+        const float slice_width =
+            std::round(std::max(0.0f, std::min(0.45f * width, width - 16 * f)));
+        const ImVec2 at = ImGui::GetCursorScreenPos();
+        if (slice_width > 12 * f) {
+            draw_slice_area(at.x + width - slice_width, at.y, slice_width, height);
+            ImGui::SetCursorScreenPos(at);
+            width -= slice_width + std::round(0.3f * f);
+        }
+    }
     const float title_height = std::round(2.9f * f);
     const float gap = std::round(0.3f * f);
     const float view_width = std::floor((width - gap) / 2.0f);
@@ -168,6 +179,8 @@ void App::draw_views(float width, float height) {
         }
         draw->AddImage(ImTextureID(std::intptr_t(views_->texture(i))), view_min, view_max,
                        ImVec2(0, 1), ImVec2(1, 0));
+        if (slice_view_)
+            draw_crosshair(UiRect{view_min.x, view_min.y, view_max.x, view_max.y}, i == 1);
         ImGui::SetCursorScreenPos(view_min);
         ImGui::InvisibleButton(i == 0 ? "##view mc" : "##view net", ImVec2(view_width, view_height),
                                ImGuiButtonFlags_MouseButtonLeft |
@@ -175,6 +188,8 @@ void App::draw_views(float width, float height) {
                                    ImGuiButtonFlags_MouseButtonMiddle);
         record(i == 0 ? "view_mc" : "view_net");
         handle_view_input(UiRect{view_min.x, view_min.y, view_max.x, view_max.y});
+        if (slice_view_)
+            pick_for_slice(UiRect{view_min.x, view_min.y, view_max.x, view_max.y}, i == 1);
 
         // Overlays: what is happening when there is nothing (yet) to see.
         if (!meshes[i]) {

@@ -16,8 +16,10 @@ inline constexpr int Space = 32, Slash = 47;
 inline constexpr int Digit1 = 49, Digit2 = 50, Digit3 = 51, Digit4 = 52;
 inline constexpr int B = 66, C = 67, E = 69, F = 70, H = 72, L = 76, O = 79, Q = 81, R = 82, S = 83,
                      W = 87;
+inline constexpr int V = 86;
 inline constexpr int Escape = 256, Enter = 257, Tab = 258, Right = 262, Left = 263, Down = 264,
-                     Up = 265, Home = 268, End = 269, F1 = 290, F12 = 301;
+                     Up = 265, PageUp = 266, PageDown = 267, Home = 268, End = 269, F1 = 290,
+                     F12 = 301;
 } // namespace key
 
 enum class Action {
@@ -41,6 +43,9 @@ enum class Action {
     ExportMeshes,
     ToggleSidePanel,
     ToggleBottomPanel,
+    ToggleSliceView,
+    NextSlice,
+    PreviousSlice,
     Help,
     Quit,
 };

@@ -465,9 +465,10 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
             job.history =
                 std::make_unique<IterationHistory>(job.context, options_.history_budget_bytes);
             progress_.fraction[std::size_t(Stage::Net)].store(1.0f);
-            post(generation, NetMessage{context->net->node_count(), context->net->link_count(),
-                                        context->net->quads.size(),
-                                        job.options.relax.max_iterations, ms_since(net_start)});
+            post(generation,
+                 NetMessage{context->net->node_count(), context->net->link_count(),
+                            context->net->quads.size(), job.options.relax.max_iterations,
+                            ms_since(net_start), context});
             after_iteration(job, {}, 0.0f, stop); // iteration 0: the initial net
             set_stage(generation, Stage::Relax);
         };

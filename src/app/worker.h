@@ -114,6 +114,9 @@ struct NetMessage {
     std::size_t nodes = 0, links = 0, quads = 0;
     int max_iterations = 0;
     double ms = 0; // building the net and the gradient field
+    // The net, its gradient field and options, to redo an iteration (the slice view's node
+    // inspector); shared, read-only.
+    std::shared_ptr<const RelaxContext> context;
 };
 // Posted twice per iteration: when it is done (iteration and max_move only), and once the
 // relaxation has finished, measured (stats.measured), oldest first.

@@ -15,6 +15,7 @@
 #include "render/figure.h"
 #include "render/image.h"
 #include "render/panels.h"
+#include "render_slice.h"
 #include "report.h"
 
 namespace snert::cli {
@@ -80,6 +81,8 @@ Runner add_render(CLI::App& app) {
         bool no_caption = false;
         EqualCountArgs equal_count;
         bool quiet = false;
+        std::string zoom; // Z, or with --slice X,Y,W,H
+        SliceArgs slice;
     };
     auto args = std::make_shared<Args>();
     CLI::App* command = app.add_subcommand(
@@ -108,11 +111,14 @@ Runner add_render(CLI::App& app) {
         ->capture_default_str()
         ->group(group);
     add_name_option(*command, "--view", f.view, "camera preset framing the meshes")->group(group);
-    command->add_option("--zoom", f.zoom, "move the camera Z times closer, for close-ups")
-        ->check(CLI::PositiveNumber)
-        ->type_name("Z")
-        ->capture_default_str()
+    command
+        ->add_option("--zoom", args->zoom,
+                     "move the camera Z times closer, for close-ups; with --slice the part of "
+                     "the slice shown, X,Y,W,H in samples")
+        ->type_name("Z|X,Y,W,H")
+        ->default_str("1")
         ->group(group);
+    add_slice_options(*command, args->slice, group);
     add_name_option(*command, "--shading", f.style.shading,
                     "facets, smooth surface, or colour by triangle quality (smallest / largest "
                     "angle)")
@@ -163,8 +169,35 @@ Runner add_render(CLI::App& app) {
     return [args] {
         // Everything about the picture is checked before any work.
         const InputChoice choice = input_choice(args->input);
-        check_output(args->out, {".png"});
+        if (!args->slice.slice.empty()) {
+            SliceRender slice{choice, args->pipeline, args->slice};
+            if (!args->zoom.empty()) slice.zoom = parse_slice_zoom(args->zoom);
+            if (args->o_iteration->count()) slice.iteration = args->iteration;
+            slice.out = args->out;
+            slice.width = args->figure.width;
+            slice.height = args->figure.height;
+            slice.samples = args->figure.samples;
+            slice.gl = args->gl;
+            slice.caption = !args->no_caption;
+            slice.quiet = args->quiet;
+            return run_slice_render(slice);
+        }
+        if (!args->slice.node.empty())
+            throw CLI::ValidationError("--node", "needs --slice (the node is shown in a slice)");
         render::FigureOptions figure = args->figure;
+        if (!args->zoom.empty()) {
+            try {
+                std::size_t used = 0;
+                figure.zoom = std::stof(args->zoom, &used);
+                if (used != args->zoom.size()) throw std::invalid_argument("trailing text");
+            } catch (const std::exception&) {
+                figure.zoom = 0.0f;
+            }
+            if (!(figure.zoom > 0.0f) || !std::isfinite(figure.zoom))
+                throw CLI::ValidationError("--zoom", "'" + args->zoom +
+                                                         "' is not a positive number (X,Y,W,H "
+                                                         "needs --slice)");
+        }
         figure.layout = figure_layout(args->layout);
         const bool captioned = !args->no_caption;
         const bool two_views =

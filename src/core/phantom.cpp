@@ -95,6 +95,88 @@ Phantom torus(int size) {
     return p;
 }
 
+// Signed distance to an axis-aligned box (positive inside): exact inside and outside.
+double box_distance(glm::dvec3 q, glm::dvec3 centre, glm::dvec3 half) {
+    const glm::dvec3 d = glm::abs(q - centre) - half;
+    const double outside = glm::length(glm::max(d, glm::dvec3(0.0)));
+    const double inside = std::min(std::max({d.x, d.y, d.z}), 0.0);
+    return -(outside + inside);
+}
+
+// Fills a dims grid with f(index point).
+template <class F> Volume fill_dims(glm::ivec3 dims, F f) {
+    Volume v = make_volume(dims);
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x)
+                v.samples[v.index(x, y, z)] = float(f(glm::dvec3(x, y, z)));
+    return v;
+}
+
+Phantom small_sphere() {
+    // Radius 4 around a centre off the sample grid, so no sample lies on the surface and the
+    // cells around it differ (the paper's Fig. 2 on a few cells).
+    const glm::dvec3 c(5.6, 5.45, 5.3);
+    const double r = 4.0;
+    Phantom p;
+    p.name = "small-sphere";
+    p.volume = fill_dims(glm::ivec3(12), [&](glm::dvec3 q) { return r - glm::length(q - c); });
+    p.reference_distance = [c, r](glm::vec3 q) {
+        return float(std::abs(glm::length(glm::dvec3(q) - c) - r));
+    };
+    p.reference_volume = 4.0 / 3.0 * kPi * r * r * r;
+    return p;
+}
+
+Phantom thin_plate() {
+    // Only the samples of the plane z = 3 are inside (value 0.5, their neighbours -0.5): the
+    // net must keep the plate's two sides apart although both run through the same cells.
+    const glm::dvec3 c(5.5, 5.5, 3.0), half(3.7, 3.7, 0.5);
+    Phantom p;
+    p.name = "thin-plate";
+    p.volume =
+        fill_dims(glm::ivec3(12, 12, 7), [&](glm::dvec3 q) { return box_distance(q, c, half); });
+    p.reference_distance = [c, half](glm::vec3 q) {
+        return float(std::abs(box_distance(glm::dvec3(q), c, half)));
+    };
+    p.reference_volume = 8.0 * half.x * half.y * half.z;
+    return p;
+}
+
+Phantom crease() {
+    // Two spheres of radius 3.5 whose centres are 4.6 apart: they overlap and meet at a
+    // circular crease (the paper's Fig. 6 on a few cells).
+    const double r = 3.5;
+    const glm::dvec3 c1(5.0, 5.2, 5.1), c2(9.6, 5.2, 5.1);
+    auto signed_distance = [=](glm::dvec3 q) {
+        return std::max(r - glm::length(q - c1), r - glm::length(q - c2));
+    };
+    Phantom p;
+    p.name = "crease";
+    p.volume = fill_dims(glm::ivec3(15, 11, 11), signed_distance);
+    const glm::dvec3 axis = glm::normalize(c2 - c1), mid = 0.5 * (c1 + c2);
+    const double half = 0.5 * glm::length(c2 - c1);
+    const double ring = std::sqrt(r * r - half * half);
+    p.reference_distance = [=](glm::vec3 q) {
+        const glm::dvec3 d(q);
+        // The union's boundary: each sphere's surface outside the other, and the crease circle.
+        double best = 1e30;
+        for (int s = 0; s < 2; ++s) {
+            const glm::dvec3 cs = s == 0 ? c1 : c2, co = s == 0 ? c2 : c1;
+            const glm::dvec3 dir = glm::length(d - cs) > 0 ? glm::normalize(d - cs) : axis;
+            if (glm::length(cs + dir * r - co) >= r)
+                best = std::min(best, std::abs(glm::length(d - cs) - r));
+        }
+        const double along = glm::dot(d - mid, axis);
+        const double radial = glm::length(d - mid - axis * along);
+        return float(std::min(best, std::hypot(along, radial - ring)));
+    };
+    const double h = r - half; // cap height of each sphere inside the other
+    const double cap = kPi * h * h * (3.0 * r - h) / 3.0;
+    p.reference_volume = 2.0 * (4.0 / 3.0 * kPi * r * r * r) - 2.0 * cap;
+    return p;
+}
+
 } // namespace
 
 Phantom make_plane_phantom(int size, glm::vec3 normal, glm::vec3 point) {
@@ -116,13 +198,35 @@ Phantom make_plane_phantom(int size, glm::vec3 normal, glm::vec3 point) {
     return p;
 }
 
+std::vector<std::string> teaching_phantom_names() {
+    return {"tilted-plane", "small-sphere", "thin-plate", "crease"};
+}
+
+bool is_teaching_phantom(std::string_view name) {
+    for (const std::string& n : teaching_phantom_names())
+        if (n == name) return true;
+    return false;
+}
+
 std::vector<std::string> phantom_names() {
-    return {"plane", "sphere", "two-spheres", "torus", "noisy-sphere", "binary-sphere"};
+    std::vector<std::string> names = {"plane", "sphere",       "two-spheres",
+                                      "torus", "noisy-sphere", "binary-sphere"};
+    for (std::string& n : teaching_phantom_names()) names.push_back(std::move(n));
+    return names;
 }
 
 Phantom make_phantom(std::string_view name, int size, unsigned seed) {
     if (size < 8 || size > 1024)
         throw std::invalid_argument("phantom size " + std::to_string(size) + " is outside 8..1024");
+    if (name == "tilted-plane") {
+        // Through a point off the samples, so every cell it crosses is cut in a general way.
+        Phantom p = make_plane_phantom(10, {1, 2, 3}, glm::vec3(4.3f, 4.6f, 4.4f));
+        p.name = "tilted-plane";
+        return p;
+    }
+    if (name == "small-sphere") return small_sphere();
+    if (name == "thin-plate") return thin_plate();
+    if (name == "crease") return crease();
     if (name == "plane") {
         const float c = float(size - 1) * 0.5f;
         return make_plane_phantom(size, {1, 2, 3}, glm::vec3(c));

@@ -9,6 +9,12 @@
 //   torus        torus around the z axis
 //   noisy-sphere the sphere plus seeded Gaussian noise (sigma 0.25); reference: the clean sphere
 //   binary-sphere the sphere as 0/1 values only (no useful grey), iso 0.5
+// Teaching phantoms: each shows one idea on a few cells, on a fixed small grid (the size
+// argument does not apply), so the whole net fits on one screen and every node can be clicked:
+//   tilted-plane  plane with normal (1, 2, 3) on a 10^3 grid, passing between the samples
+//   small-sphere  sphere of radius 4 on a 12^3 grid
+//   thin-plate    a square plate one voxel thick (only its middle samples inside), 12 x 12 x 7
+//   crease        two spheres of radius 3.5 overlapping, meeting at a crease, 15 x 11 x 11
 #pragma once
 
 #include <functional>
@@ -32,11 +38,14 @@ struct Phantom {
     double reference_volume = 0.0;
 };
 
-// The phantom names accepted by make_phantom, in menu order.
+// The phantom names accepted by make_phantom, in menu order (the teaching phantoms last).
 std::vector<std::string> phantom_names();
+// The teaching phantoms among them: fixed small grids whatever the size asked for.
+std::vector<std::string> teaching_phantom_names();
+bool is_teaching_phantom(std::string_view name);
 
-// Builds phantom `name` on a size^3 grid. Throws std::invalid_argument for an unknown name or a
-// size outside [8, 1024].
+// Builds phantom `name` on a size^3 grid (a teaching phantom on its own grid). Throws
+// std::invalid_argument for an unknown name or a size outside [8, 1024].
 Phantom make_phantom(std::string_view name, int size = 64, unsigned seed = 1);
 
 // Plane with any normal through `point` (index space), for tests.

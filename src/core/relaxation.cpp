@@ -78,33 +78,6 @@ GradientStep gradient_step(const GreyField& grey, glm::vec3 p) {
     return step;
 }
 
-// The move of one node for one sub-step; `smoothing` and `gradient` select the terms.
-glm::vec3 node_move(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                    std::span<const glm::vec3> positions, std::uint32_t node, bool smoothing,
-                    bool gradient, bool at_sliver) {
-    const glm::vec3 p = positions[node];
-    glm::vec3 move(0.0f);
-    const bool use_grey = gradient && grey != nullptr && options.mode != RelaxMode::Averaging;
-    const GradientStep step = use_grey ? gradient_step(*grey, p) : GradientStep{};
-    if (smoothing && options.mode != RelaxMode::Gradient) {
-        glm::vec3 a = averaging_vector(net, positions, node);
-        // eq. 5: in SNERT's simultaneous step the averaging acts only within the iso-surface
-        // (the projection taken in world shape).
-        if (options.mode == RelaxMode::Snert && use_grey) {
-            const glm::vec3 world = a * grey->scale;
-            a = (world - step.g * glm::dot(world, step.g)) / grey->scale;
-        }
-        move += options.smoothing_weight * a;
-    }
-    if (use_grey) move += options.gradient_weight * step.d * step.step; // eq. 4 / eq. 6
-    // Part of keeping the mesh valid: the existing slivers are lifted (mesh_guard.h).
-    if (at_sliver)
-        move += sliver_relief(net, options.triangulation,
-                              grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f), positions,
-                              node);
-    return move;
-}
-
 // A node keeps a margin away from its box's faces (a flat box stays flat): then the triangles
 // of two quads without a common cell cannot even touch, which is what lets keep_mesh_valid look
 // only within cells. The margin must survive the rounding of the world map (its points are what
@@ -129,25 +102,87 @@ NodeBox inner_box(NodeBox box, float margin) {
     return box;
 }
 
-float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                  std::span<const glm::vec3> old_positions, std::span<glm::vec3> new_positions,
-                  bool smoothing, bool gradient) {
+} // namespace
+
+MoveTerms node_move_terms(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                          std::span<const glm::vec3> positions, std::uint32_t node,
+                          SubStep sub_step, bool at_sliver) {
+    MoveTerms terms;
+    const glm::vec3 p = positions[node];
+    const bool use_grey =
+        sub_step.gradient && grey != nullptr && options.mode != RelaxMode::Averaging;
+    const GradientStep step = use_grey ? gradient_step(*grey, p) : GradientStep{};
+    terms.g = step.g;
+    terms.d = step.d;
+    if (sub_step.smoothing && options.mode != RelaxMode::Gradient) {
+        terms.a = averaging_vector(net, positions, node);
+        terms.a_p = terms.a;
+        // eq. 5: in SNERT's simultaneous step the averaging acts only within the iso-surface
+        // (the projection taken in world shape).
+        if (options.mode == RelaxMode::Snert && use_grey) {
+            const glm::vec3 world = terms.a * grey->scale;
+            terms.a_p = (world - step.g * glm::dot(world, step.g)) / grey->scale;
+        }
+        terms.move += options.smoothing_weight * terms.a_p;
+    }
+    if (use_grey) {
+        terms.dg = step.d * step.step;
+        // eq. 4 / eq. 6, the product in the order relax_step has always taken it (same bits)
+        terms.move += options.gradient_weight * step.d * step.step;
+    }
+    // Part of keeping the mesh valid: the existing slivers are lifted (mesh_guard.h).
+    if (at_sliver) {
+        terms.relief = sliver_relief(net, options.triangulation,
+                                     grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f),
+                                     positions, node);
+        terms.move += terms.relief;
+    }
+    return terms;
+}
+
+NodeBox relax_box(const SurfaceNet& net, const GreyField* grey, std::size_t node) {
+    return inner_box(node_box(net, node), cell_margin(grey));
+}
+
+std::vector<SubStep> sub_steps(const RelaxOptions& options, const GreyField* grey) {
+    const bool two_terms = options.mode == RelaxMode::Snert && grey != nullptr;
+    if (options.schedule == Schedule::Simultaneous || !two_terms) return {{true, true}};
+    // "Smoothing first, ending with the favoured goal": two Jacobi sub-steps, one term each.
+    const bool first_smooth = options.favour_accuracy;
+    return {{first_smooth, !first_smooth}, {!first_smooth, first_smooth}};
+}
+
+std::vector<std::uint8_t> sliver_flags(const SurfaceNet& net, const GreyField* grey,
+                                       const RelaxOptions& options, SubStep sub_step,
+                                       std::span<const glm::vec3> positions) {
+    const glm::vec3 spacing = grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f);
+    return options.keep_valid && sub_step.smoothing
+               ? sliver_apexes(net, options.triangulation, spacing, positions)
+               : std::vector<std::uint8_t>(positions.size(), 0);
+}
+
+float step_scale(const RelaxOptions& options, int iteration) {
+    if (iteration <= options.damping_start || !(options.damping_halving > 0.0f)) return 1.0f;
+    return std::exp2(-float(iteration - options.damping_start) / options.damping_halving);
+}
+
+float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                     SubStep sub_step, std::span<const glm::vec3> old_positions,
+                     std::span<glm::vec3> new_positions) {
     // Jacobi: every node reads only old positions, so chunks of nodes run independently.
     constexpr std::size_t kChunk = 4096;
     const float margin = cell_margin(grey);
-    const glm::vec3 spacing = grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f);
     const std::vector<std::uint8_t> at_sliver =
-        options.keep_valid && smoothing
-            ? sliver_apexes(net, options.triangulation, spacing, old_positions)
-            : std::vector<std::uint8_t>(old_positions.size(), 0);
+        sliver_flags(net, grey, options, sub_step, old_positions);
     std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
     for_each_chunk(
         old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
             float local = 0.0f;
             for (std::size_t i = begin; i < end; ++i) {
                 const glm::vec3 move =
-                    node_move(net, grey, options, old_positions, std::uint32_t(i), smoothing,
-                              gradient, at_sliver[i] != 0);
+                    node_move_terms(net, grey, options, old_positions, std::uint32_t(i), sub_step,
+                                    at_sliver[i] != 0)
+                        .move;
                 const NodeBox box = inner_box(node_box(net, i), margin);
                 new_positions[i] =
                     constrain_move(old_positions[i], move, box.lo, box.hi, options.constraint);
@@ -158,8 +193,6 @@ float jacobi_pass(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
     if (chunk_max.empty()) return 0.0f;
     return *std::max_element(chunk_max.begin(), chunk_max.end());
 }
-
-} // namespace
 
 GreyField make_grey_field(const Volume& volume, const RelaxOptions& options) {
     GreyField grey;
@@ -197,23 +230,16 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi
     return glm::clamp(p + t * move, lo, hi);
 }
 
-float step_scale(const RelaxOptions& options, int iteration) {
-    if (iteration <= options.damping_start || !(options.damping_halving > 0.0f)) return 1.0f;
-    return std::exp2(-float(iteration - options.damping_start) / options.damping_halving);
-}
-
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                  int iteration, std::span<const glm::vec3> old_positions,
                  std::span<glm::vec3> new_positions, std::size_t* shortened) {
-    const bool two_terms = options.mode == RelaxMode::Snert && grey != nullptr;
-    if (options.schedule == Schedule::Simultaneous || !two_terms) {
-        jacobi_pass(net, grey, options, old_positions, new_positions, true, true);
+    const std::vector<SubStep> steps = sub_steps(options, grey);
+    if (steps.size() == 1) {
+        relax_sub_step(net, grey, options, steps[0], old_positions, new_positions);
     } else {
-        // "Smoothing first, ending with the favoured goal": two Jacobi sub-steps, one term each.
         std::vector<glm::vec3> middle(old_positions.size());
-        const bool first_smooth = options.favour_accuracy;
-        jacobi_pass(net, grey, options, old_positions, middle, first_smooth, !first_smooth);
-        jacobi_pass(net, grey, options, middle, new_positions, !first_smooth, first_smooth);
+        relax_sub_step(net, grey, options, steps[0], old_positions, middle);
+        relax_sub_step(net, grey, options, steps[1], middle, new_positions);
     }
     // Safeguards: the damping schedule (a point of the cell's box stays in the box when its
     // move is shortened), then the mesh's validity.

@@ -74,6 +74,48 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constrain
 glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi,
                          Constraint constraint);
 
+// One Jacobi sub-step of an iteration and the terms it applies. An iteration is one sub-step
+// with both terms, or (Schedule::SmoothingFirst in Snert mode) two with one term each.
+struct SubStep {
+    bool smoothing = true;
+    bool gradient = true;
+};
+std::vector<SubStep> sub_steps(const RelaxOptions& options, const GreyField* grey);
+
+// One node's move in one sub-step, before the constraint, term by term: what relax_step adds
+// up, and what the node inspector shows (index space).
+struct MoveTerms {
+    glm::vec3 a{0.0f};      // averaging vector (eq. 1); 0 when the sub-step does not smooth
+    glm::vec3 a_p{0.0f};    // the averaging term used: a projected on the plane normal to g
+                            // (eq. 5) in Snert mode with a gradient, else a itself
+    glm::vec3 g{0.0f};      // unit direction towards the iso-surface, world shape (eq. 3), or 0
+    float d = 0.0f;         // distance along g (eq. 4), in units of the smallest spacing
+    glm::vec3 dg{0.0f};     // the gradient step d g as an index-space move
+    glm::vec3 relief{0.0f}; // sliver relief (mesh_guard.h), 0 away from slivers
+    // smoothing_weight a_p + gradient_weight d g + relief: the move the constraint c shortens
+    glm::vec3 move{0.0f};
+};
+// `at_sliver`: the node is the apex of a sliver (sliver_flags below).
+MoveTerms node_move_terms(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                          std::span<const glm::vec3> positions, std::uint32_t node,
+                          SubStep sub_step, bool at_sliver);
+// Per node, whether the sub-step lifts it as a sliver's apex (only with keep_valid, when the
+// sub-step smooths).
+std::vector<std::uint8_t> sliver_flags(const SurfaceNet& net, const GreyField* grey,
+                                       const RelaxOptions& options, SubStep sub_step,
+                                       std::span<const glm::vec3> positions);
+// The box the constraint keeps a node in: its region (node_box) less a small margin.
+NodeBox relax_box(const SurfaceNet& net, const GreyField* grey, std::size_t node);
+// The damping factor of iteration `iteration`'s moves (1 before options.damping_start).
+float step_scale(const RelaxOptions& options, int iteration);
+
+// One sub-step for every node (Jacobi: from `old_positions` only): the moves of
+// node_move_terms, constrained to relax_box, into `new_positions`; returns the largest move.
+// No damping and no mesh check (relax_step adds them).
+float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                     SubStep sub_step, std::span<const glm::vec3> old_positions,
+                     std::span<glm::vec3> new_positions);
+
 // Iteration `iteration` (1 for the first): computes every node's new position from
 // `old_positions` into `new_positions` (same size) and returns the largest move length
 // (voxels). The result depends only on its arguments (the app recomputes iterations from

@@ -44,8 +44,13 @@ void open_phantom(Source& source, std::string_view name) {
         throw std::invalid_argument(spec.input + ": isotropic resampling applies to volume "
                                                  "files; a phantom's voxels are cubic already");
     Phantom phantom = make_phantom(name, spec.phantom_size);
+    // A teaching phantom has its own small grid, whatever the size asked for.
+    const glm::ivec3 d = phantom.volume.dims;
     source.title =
-        "phantom " + phantom.name + ", " + std::to_string(spec.phantom_size) + "\xC2\xB3";
+        "phantom " + phantom.name + ", " +
+        (d.x == d.y && d.y == d.z ? std::to_string(d.x) + "\xC2\xB3"
+                                  : std::to_string(d.x) + "\xC3\x97" + std::to_string(d.y) +
+                                        "\xC3\x97" + std::to_string(d.z));
     source.suggested_iso = phantom.iso;
     source.suggested_inside = InsideIs::Above;
     std::ostringstream reason;

@@ -247,5 +247,17 @@ else
     echo "cli: shared data folder absent, real-volume checks skipped"
 fi
 
+# The slice view's options (only where snert was built with the renderer and OSMesa runs).
+if "$SNERT" render phantom:small-sphere --slice axial:5 --gl osmesa --out "$tmp/slice.png" -q >/dev/null 2>&1; then
+    expect_exit 2 "--slice: 'oblique:3' is not AXIS:INDEX" -- "$SNERT" render phantom:small-sphere --slice oblique:3 --out "$tmp/s.png"
+    expect_exit 2 "axial slice 12 is outside 0..11" -- "$SNERT" render phantom:small-sphere --slice axial:12 --gl osmesa --out "$tmp/s.png"
+    expect_exit 2 "--node: needs --slice" -- "$SNERT" render phantom:small-sphere --node 2,3,5 --out "$tmp/s.png"
+    expect_exit 2 "cell \(0,0,0\) holds no node" -- "$SNERT" render phantom:small-sphere --slice axial:5 --node 0,0,0 --gl osmesa --out "$tmp/s.png"
+    expect_exit 2 "--zoom: with --slice, '1,2' is not a window X,Y,W,H" -- "$SNERT" render phantom:small-sphere --slice axial:5 --zoom 1,2 --out "$tmp/s.png"
+    expect_exit 2 "--zoom: '0,0,1' is not a positive number" -- "$SNERT" render phantom:small-sphere --zoom 0,0,1 --out "$tmp/s.png"
+    [ -e "$tmp/s.png" ] && fail "a refused slice render left a file"
+    expect_exit 0 "wrote" -- "$SNERT" render phantom:crease --slice coronal:3 --node 6,3,1 --iteration 1 --gl osmesa --out "$tmp/node.png"
+fi
+
 echo "cli: $passes passed, $failures failed"
 [ "$failures" -eq 0 ]

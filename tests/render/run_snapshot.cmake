@@ -1,7 +1,8 @@
 # One snapshot test: renders with `snert render`, then compares with the golden PNG.
 #   cmake -DSNERT=<snert> -DCOMPARE=<snert_snapshot_compare> -DNAME=<name>
 #         -DGOLDEN_DIR=<tests/snapshots> -DOUT_DIR=<build folder> -DRENDER_ARGS=<args;...>
-#         [-DTOLERANCE=8] [-DMAX_SHARE=0.002] -P run_snapshot.cmake
+#         [-DTOLERANCE=8] [-DMAX_SHARE=0.002] [-DREQUIRES=<input path>] -P run_snapshot.cmake
+# With REQUIRES (a real volume) the test is skipped, saying so, when that path is absent.
 # The actual image stays in OUT_DIR/<name>.png; on failure the diff is OUT_DIR/<name>.diff.png.
 foreach(required SNERT COMPARE NAME GOLDEN_DIR OUT_DIR RENDER_ARGS)
     if(NOT DEFINED ${required})
@@ -13,6 +14,10 @@ if(NOT DEFINED TOLERANCE)
 endif()
 if(NOT DEFINED MAX_SHARE)
     set(MAX_SHARE 0.002)
+endif()
+if(DEFINED REQUIRES AND NOT EXISTS "${REQUIRES}")
+    message("SNAPSHOT SKIPPED: ${REQUIRES} is absent")
+    return()
 endif()
 file(MAKE_DIRECTORY ${OUT_DIR})
 set(actual ${OUT_DIR}/${NAME}.png)
