@@ -148,7 +148,8 @@ class App {
     void set_parameters(const Parameters& parameters);
     void request_screenshot(const std::string& path);
     // Writes the shown meshes as <base>-mc.<format> and <base>-<method>-<k>.<format>;
-    // returns the files written. Throws std::runtime_error naming a file that failed.
+    // returns the files written (absolute paths). Throws std::runtime_error naming a file that
+    // failed.
     std::vector<std::string> export_meshes(const std::string& base, const std::string& format);
 
     // --- State for the glue and the tests ---
@@ -199,6 +200,15 @@ class App {
     // The text of the Open field (tests of its completion).
     const std::string& open_field_text() const { return form_.path; }
     bool about_open() const { return about_open_; }
+    // How far the side panel's content runs past its height in the last frame (0: no scroll
+    // bar needed).
+    float side_panel_overflow() const { return side_panel_overflow_; }
+    // The iso value's step: 1 for a volume stored as integers, else a power of ten about a
+    // thousandth of the value range. The field steps by it; histogram clicks round to it.
+    float iso_step() const;
+    // The folder the screenshot and export dialogs write into (the last one used, else the
+    // working folder), absolute.
+    std::string output_folder() const;
     void show_about() { about_open_ = true; }
 
   private:
@@ -237,6 +247,7 @@ class App {
     void scan_series(const std::string& folder);
     void poll_series();
     void frame_camera_if_needed();
+    void remember_iso();
     std::string default_output_base() const;
 
     AppOptions options_;
@@ -292,6 +303,8 @@ class App {
     std::optional<ScreenshotRequest> screenshot_request_;
     bool screenshot_pending_ = false;
     std::string screenshot_pending_path_;
+    bool capturing_ = false;    // this frame is the screenshot's: no hints, no windows over it
+    std::string dialog_folder_; // the dialogs' folder field
     std::vector<Notice> notices_;
     float notice_timer_ = 0.0f;
     bool tab_restored_ = false; // the saved bottom tab was selected
@@ -303,6 +316,7 @@ class App {
     };
     std::vector<KeyPress> key_presses_; // since the last frame, oldest first
     UiRect views_rect_;                 // views + titles, for screenshots
+    float side_panel_overflow_ = 0.0f;
 };
 
 } // namespace snert::app

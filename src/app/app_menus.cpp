@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
 #include "core/phantom.h"
+#include "path_completion.h"
 #include "render/panels.h"
 
 namespace snert::app {
@@ -204,6 +206,10 @@ void App::draw_status_bar() {
 
 void App::draw_help_window() {
     if (!help_open_) return;
+    if (ImGui::IsKeyPressed(key::Escape) && !ImGui::GetIO().WantTextInput) {
+        help_open_ = false;
+        return;
+    }
     const bool visible = begin_centred_window("Help: snert", &help_open_, 40.0f * fonts_.size);
     if (visible) {
         ImGui::PushTextWrapPos(38.0f * fonts_.size);
@@ -292,15 +298,35 @@ void App::draw_dialogs() {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     const ImVec2 centre(viewport->Pos.x + 0.5f * viewport->Size.x,
                         viewport->Pos.y + 0.5f * viewport->Size.y);
+    // Both dialogs: the folder (the last one used, else the working folder) and a file name;
+    // the full path is shown before and reported after; Enter in a field confirms.
+    auto folder_field = [&] {
+        ImGui::SetNextItemWidth(30.0f * fonts_.size);
+        return ImGui::InputText("Folder", &dialog_folder_, ImGuiInputTextFlags_EnterReturnsTrue);
+    };
+    auto in_folder = [&](const std::string& name) {
+        return (std::filesystem::path(expand_home(dialog_folder_)) / name).lexically_normal();
+    };
+    auto remember_folder = [&] {
+        std::error_code error;
+        settings_.output_folder = std::filesystem::absolute(expand_home(dialog_folder_), error)
+                                      .lexically_normal()
+                                      .string();
+    };
     ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (ImGui::BeginPopupModal("Save screenshot", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("A PNG of the two views with their titles, at screen resolution.");
+        bool enter = folder_field();
+        record("screenshot_folder");
         ImGui::SetNextItemWidth(30.0f * fonts_.size);
         if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-        const bool enter =
-            ImGui::InputText("File", &screenshot_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+        enter |= ImGui::InputText("File", &screenshot_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+        record("screenshot_file");
+        const std::string path = in_folder(screenshot_path_).string();
+        ImGui::TextDisabled("writes %s", path.c_str());
         if (ImGui::Button("Save") || enter) {
-            request_screenshot(screenshot_path_);
+            remember_folder();
+            request_screenshot(path);
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();
@@ -310,22 +336,28 @@ void App::draw_dialogs() {
     ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (ImGui::BeginPopupModal("Export meshes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Writes the two meshes shown (world units, millimetres):");
+        bool enter = folder_field();
+        record("export_folder");
         ImGui::SetNextItemWidth(30.0f * fonts_.size);
         if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-        ImGui::InputText("Name", &export_base_);
+        enter |= ImGui::InputText("Name", &export_base_, ImGuiInputTextFlags_EnterReturnsTrue);
+        record("export_name");
         ImGui::SetNextItemWidth(8.0f * fonts_.size);
         ImGui::Combo("Format", &export_format_, kExportFormats, IM_ARRAYSIZE(kExportFormats));
         const std::string format = kExportFormats[export_format_];
-        if (results_.mc) ImGui::BulletText("%s-mc.%s", export_base_.c_str(), format.c_str());
+        const std::string base = in_folder(export_base_).string();
+        if (results_.mc) ImGui::BulletText("%s-mc.%s", base.c_str(), format.c_str());
         if (results_.frame)
-            ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(),
+            ImGui::BulletText("%s-%s-%d.%s", base.c_str(),
                               std::string(name_of(results_.frame->method)).c_str(),
                               results_.frame->iteration, format.c_str());
-        if (ImGui::Button("Export")) {
+        if (ImGui::Button("Export") || enter) {
             try {
-                const auto written = export_meshes(export_base_, format);
-                notice("exported " + std::to_string(written.size()) +
-                       " meshes: " + (written.empty() ? std::string() : written.back()));
+                remember_folder();
+                const auto written = export_meshes(base, format);
+                std::string list;
+                for (const std::string& file : written) list += (list.empty() ? "" : ", ") + file;
+                notice("exported " + std::to_string(written.size()) + " meshes: " + list);
             } catch (const std::exception& e) {
                 notice(std::string("export failed: ") + e.what(), true);
             }

@@ -18,10 +18,11 @@ namespace {
 
 constexpr ImU32 kHint = IM_COL32(80, 86, 96, 255);
 
-// The title a view shows above it.
-std::string net_title(const DisplayMesh& frame, const JobResults& results) {
-    std::string title = std::string(label_of(frame.method)) + "  \xC2\xB7  iteration " +
-                        std::to_string(frame.iteration);
+// The title a view shows above it: the iteration the slider shows, even while its mesh is on
+// its way (the view then says "updating...").
+std::string net_title(const DisplayMesh& frame, int shown, const JobResults& results) {
+    std::string title =
+        std::string(label_of(frame.method)) + "  \xC2\xB7  iteration " + std::to_string(shown);
     if (results.iteration_count() > 0)
         title += " of " + std::to_string(results.iteration_count() - 1);
     return title;
@@ -114,7 +115,19 @@ void App::draw_toolbar() {
             ImGui::SetTooltip("triangles whose quality q (smallest / largest angle) is under this "
                               "value are drawn red");
     }
-    ImGui::SameLine(0, 2.0f * fonts_.size);
+    // The camera group on a second row when the first has no room for it.
+    float camera_width = ImGui::CalcTextSize("Camera").x + ImGui::CalcTextSize("Reset").x +
+                         2 * ImGui::GetStyle().FramePadding.x;
+    for (const Named<render::ViewPreset>& row : name_table(render::ViewPreset{}))
+        camera_width += ImGui::CalcTextSize(std::string(row.label).c_str()).x +
+                        2 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
+    camera_width += 2 * ImGui::GetStyle().ItemSpacing.x;
+    const float right_edge = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    if (right_edge - ImGui::GetItemRectMax().x - 2.0f * fonts_.size > camera_width) {
+        ImGui::SameLine(0, 2.0f * fonts_.size);
+    } else {
+        ImGui::SetCursorPosX(ImGui::GetCursorPosX() + std::round(0.4f * fonts_.size));
+    }
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted("Camera");
     ImGui::SameLine();
@@ -144,11 +157,14 @@ void App::draw_views(float width, float height) {
     // 3D: drawn now into the views' targets (only when something changed), shown as images.
     const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
     view_aspect_ = view_width / view_height;
+    frame_camera_if_needed();
     views_->render(int(std::lround(view_width * scale.x)), int(std::lround(view_height * scale.y)),
                    camera_, draw_style());
 
     const std::shared_ptr<const DisplayMesh> meshes[2] = {results_.mc, results_.frame};
-    const bool current[2] = {results_.mc_current, results_.frame_current};
+    const bool current[2] = {results_.mc_current,
+                             results_.frame_current && results_.frame &&
+                                 results_.frame->iteration == shown_iteration()};
     const bool busy = !results_.finished && results_.error.empty();
     for (int i = 0; i < 2; ++i) {
         const float x = origin.x + float(i) * (view_width + gap);
@@ -157,7 +173,8 @@ void App::draw_views(float width, float height) {
             view_max(x + view_width, origin.y + title_height + view_height);
         draw->AddRectFilled(title_min, title_max, IM_COL32(255, 255, 255, 255));
         if (meshes[i]) {
-            const std::string title = i == 0 ? "Marching Cubes" : net_title(*meshes[i], results_);
+            const std::string title =
+                i == 0 ? "Marching Cubes" : net_title(*meshes[i], shown_iteration(), results_);
             render::draw_view_title(draw, title_min, title_max,
                                     {meshes[i]->method, title, &meshes[i]->metrics}, fonts_);
         } else {
@@ -183,7 +200,7 @@ void App::draw_views(float width, float height) {
                                                              : "relaxing the SurfaceNet...";
             centred_text(draw, fonts_.regular, view_min, view_max,
                          results_.error.empty() ? kHint : IM_COL32(190, 30, 30, 255), text);
-        } else if (!current[i] && busy) {
+        } else if (!current[i] && (busy || i == 1)) {
             tag(draw, fonts_.small, ImVec2(view_min.x + 0.5f * f, view_min.y + 0.4f * f), kHint,
                 "updating...");
         }
@@ -191,6 +208,24 @@ void App::draw_views(float width, float height) {
             tag(draw, fonts_.small, ImVec2(view_max.x - 8.5f * f, view_min.y + 0.4f * f), kHint,
                 "recomputed from a keyframe");
     }
+    // How to move the camera, for people who have not read the help: in the left view, as much
+    // of it as fits there.
+    if (!capturing_) {
+        static const char* const hints[] = {
+            "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom  \xC2\xB7  double-click: "
+            "reset",
+            "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom",
+            "drag: turn  \xC2\xB7  wheel: zoom"};
+        for (const char* hint : hints) {
+            const float w = fonts_.small->CalcTextSizeA(fonts_.small->FontSize, 1e9f, 0, hint).x;
+            if (w + 1.6f * f > view_width) continue;
+            tag(draw, fonts_.small,
+                ImVec2(origin.x + 0.6f * f, origin.y + title_height + view_height - 1.6f * f),
+                kHint, hint);
+            break;
+        }
+    }
+
     // The quality legend in the right view, as in the figures.
     if (settings_.view.shading == "quality") {
         const ImVec2 legend = render::quality_legend_size(fonts_.size);
@@ -198,17 +233,19 @@ void App::draw_views(float width, float height) {
         const float right = origin.x + 2 * view_width + gap - margin;
         const float bottom = origin.y + title_height + view_height - margin;
         const float legend_width = std::min(legend.x, view_width - 2 * margin);
-        if (legend_width > 6 * f && view_height > legend.y + 4 * f)
+        if (legend_width > 6 * f && view_height > legend.y + 4 * f) {
+            // On a white card, drawn last: readable over any part of the mesh.
+            const float pad = std::round(0.3f * f);
+            draw->AddRectFilled(ImVec2(right - legend_width - pad, bottom - legend.y - pad),
+                                ImVec2(right + pad, bottom + pad), IM_COL32(255, 255, 255, 235),
+                                pad);
+            draw->AddRect(ImVec2(right - legend_width - pad, bottom - legend.y - pad),
+                          ImVec2(right + pad, bottom + pad), IM_COL32(200, 204, 212, 255), pad);
             render::draw_quality_legend(draw, ImVec2(right - legend_width, bottom - legend.y),
                                         ImVec2(right, bottom), settings_.view.quality_threshold,
                                         fonts_);
+        }
     }
-    // How to move the camera, for people who have not read the help.
-    tag(draw, fonts_.small,
-        ImVec2(origin.x + 0.6f * f, origin.y + title_height + view_height - 1.6f * f), kHint,
-        "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom  \xC2\xB7  double-click: "
-        "reset");
-
     views_rect_ = UiRect{origin.x, origin.y, origin.x + 2 * view_width + gap,
                          origin.y + title_height + view_height};
     rects_["views"] = views_rect_;
@@ -265,10 +302,25 @@ void App::draw_iteration_bar() {
     int value = shown;
     const float run_width =
         ImGui::CalcTextSize("Run to convergence").x + 2 * ImGui::GetStyle().FramePadding.x;
-    const float status_width = 12.0f * fonts_.size;
-    ImGui::SetNextItemWidth(std::max(ImGui::GetContentRegionAvail().x - run_width - status_width -
-                                         2 * ImGui::GetStyle().ItemSpacing.x,
-                                     6.0f * fonts_.size));
+    std::string state;
+    if (!results_.error.empty())
+        state = "failed";
+    else if (!results_.finished)
+        state = results_.frame && results_.frame->last ? "measuring iterations..."
+                : has_net                              ? "relaxing..."
+                                                       : "computing...";
+    else if (results_.finished->converged)
+        state = "converged at " + std::to_string(results_.finished->iterations);
+    else
+        state = "stopped at max. iterations";
+    // The state only where the slider keeps room (the status line says it too).
+    const float state_width = std::max(ImGui::CalcTextSize(state.c_str()).x, 12.0f * fonts_.size) +
+                              ImGui::GetStyle().ItemSpacing.x;
+    const float slider_room = ImGui::GetContentRegionAvail().x - run_width -
+                              ImGui::GetStyle().ItemSpacing.x - std::round(0.4f * fonts_.size);
+    const bool show_state = slider_room - state_width >= 14.0f * fonts_.size;
+    ImGui::SetNextItemWidth(
+        std::max(slider_room - (show_state ? state_width : 0.0f), 6.0f * fonts_.size));
     if (ImGui::SliderInt("##iteration", &value, 0, last, format, ImGuiSliderFlags_AlwaysClamp)) {
         playing_ = false;
         show_iteration(value);
@@ -287,20 +339,11 @@ void App::draw_iteration_bar() {
         ImGui::SetTooltip("relax further until the largest move is under epsilon, then show "
                           "the last iteration  (C)");
     ImGui::EndDisabled();
-    ImGui::SameLine();
-    ImGui::AlignTextToFramePadding();
-    std::string state;
-    if (!results_.error.empty())
-        state = "failed";
-    else if (!results_.finished)
-        state = results_.frame && results_.frame->last ? "measuring iterations..."
-                : has_net                              ? "relaxing..."
-                                                       : "computing...";
-    else if (results_.finished->converged)
-        state = "converged at " + std::to_string(results_.finished->iterations);
-    else
-        state = "stopped at max. iterations";
-    ImGui::TextDisabled("%s", state.c_str());
+    if (show_state) {
+        ImGui::SameLine();
+        ImGui::AlignTextToFramePadding();
+        ImGui::TextDisabled("%s", state.c_str());
+    }
 }
 
 } // namespace snert::app

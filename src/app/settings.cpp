@@ -243,6 +243,7 @@ const std::vector<Field>& fields() {
                  int_field("bottom_tab", SNERT_MEMBER(layout.bottom_tab), 0, 1),
                  float_field("ui_scale", SNERT_MEMBER(layout.ui_scale), 0.5f, 3),
                  float_field("play_speed", SNERT_MEMBER(play_speed), 0.5f, 240),
+                 string_field("output_folder", SNERT_MEMBER(output_folder)),
                  int_field("history_budget_mb", SNERT_MEMBER(history_budget_mb), 0, 1 << 20),
              })
             t.push_back(std::move(f));
@@ -346,6 +347,15 @@ Settings parse_settings(const std::string& text) {
                 s.recent_files.push_back(*spec);
             continue;
         }
+        if (key == "recent_iso") { // "190 carotid.vtk | ...": the iso, then the input's line
+            const auto space = value.find(' ');
+            float iso = 0;
+            if (space != std::string::npos && parse_float(value.substr(0, space), iso)) {
+                const std::optional<SourceSpec> spec = parse_source_line(value.substr(space + 1));
+                if (spec) s.iso_by_input[format_source_line(*spec)] = iso;
+            }
+            continue;
+        }
         for (const Field& f : fields()) {
             if (key == f.key) {
                 f.set(s, value); // a bad value keeps the default
@@ -367,6 +377,13 @@ std::string format_settings(const Settings& settings) {
     }
     for (const SourceSpec& spec : settings.recent_files)
         out << "recent = " << format_source_line(spec) << "\n";
+    for (const SourceSpec& spec : settings.recent_files) {
+        const auto iso = settings.iso_by_input.find(format_source_line(spec));
+        if (iso == settings.iso_by_input.end()) continue;
+        char number[32];
+        std::snprintf(number, sizeof number, "%.9g", double(iso->second));
+        out << "recent_iso = " << number << " " << iso->first << "\n";
+    }
     return out.str();
 }
 

@@ -43,6 +43,9 @@ TEST(Settings, RoundTripsEveryField) {
     SourceSpec raw{"/d.raw"};
     raw.raw = RawOptions{{10, 20, 30}, ScalarType::Float32, {1.0f, 1.0f, 1.5f}, Endian::Little};
     s.recent_files = {labelled, raw, SourceSpec{"/e.mhd"}};
+    s.iso_by_input[format_source_line(labelled)] = 190.5f;
+    s.iso_by_input["/not/recent.nrrd"] = 7.0f; // only the recent inputs' are kept
+    s.output_folder = "/a b/out";
     const std::string text = format_settings(s);
     EXPECT_NE(text.find("raw = 64,48,30\n"), std::string::npos) << text;
     EXPECT_NE(text.find("raw_type = int16\n"), std::string::npos) << text;
@@ -62,6 +65,9 @@ TEST(Settings, RoundTripsEveryField) {
     EXPECT_EQ(back.layout.bottom_tab, 1);
     EXPECT_EQ(back.play_speed, 25.0f);
     EXPECT_EQ(back.recent_files, s.recent_files);
+    ASSERT_EQ(back.iso_by_input.size(), 1u);
+    EXPECT_EQ(back.iso_by_input.at(format_source_line(labelled)), 190.5f);
+    EXPECT_EQ(back.output_folder, "/a b/out");
 }
 
 TEST(Settings, SkipsBadValuesAndUnknownKeys) {
