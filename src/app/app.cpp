@@ -472,6 +472,10 @@ render::DrawStyle App::draw_style() const {
 // Called once the views' size is known (view_aspect_), so the new volume fills them. The
 // meshes of the input shown before stay until the new ones arrive: framing waits for a mesh of
 // the current job, or it would frame the old volume.
+ShapeMeasure App::color_by() const {
+    return parse_name<ShapeMeasure>(settings_.view.color_by).value_or(ShapeMeasure::Quality);
+}
+
 void App::frame_camera_if_needed() {
     if (!camera_needs_framing_) return;
     const bool mc = results_.mc && !results_.mc->mesh.positions.empty();

@@ -179,6 +179,7 @@ class App {
     // The views' renderer: per-view draws and uploads (view_renderer.h), for tests.
     const ViewRenderer& view_renderer() const { return *views_; }
     render::DrawStyle draw_style() const;
+    ShapeMeasure color_by() const; // the measure the colours and the histograms show
     // True while something is changing (a job, playback, a frame on its way): keep drawing
     // frames; otherwise the glue may sleep until the next input event.
     bool animating() const;

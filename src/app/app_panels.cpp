@@ -3,6 +3,7 @@
 #include "app.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -653,10 +654,22 @@ void App::draw_quality_tab() {
     const float histogram_width = std::clamp(std::round(0.45f * (available.x - 3 * pad)),
                                              28.0f * fonts_.size, 38.0f * fonts_.size);
     const float inner_height = std::max(available.y - pad, 4.0f * fonts_.size);
+    // The histograms show the measure the views colour by (the worker summed each one).
+    const ShapeMeasure measure = color_by();
+    const DisplayMesh* shown[2] = {results_.mc.get(), results_.frame.get()};
+    std::array<MethodMetrics, 2> histogram_metrics;
+    std::vector<render::PanelMethod> histogram_methods = methods;
+    for (std::size_t i = 0, m = 0; i < 2; ++i) {
+        if (!shown[i]) continue;
+        histogram_metrics[i] = *methods[m].metrics;
+        histogram_metrics[i].quality.mean = shown[i]->summary(measure).mean;
+        histogram_metrics[i].quality.histogram = shown[i]->summary(measure).histogram;
+        histogram_methods[m++].metrics = &histogram_metrics[i];
+    }
     render::draw_quality_histograms(
         ImGui::GetWindowDrawList(), ImVec2(start.x + pad, start.y + pad),
-        ImVec2(start.x + pad + histogram_width, start.y + inner_height), methods, fonts_,
-        settings_.view.shading == "quality", settings_.view.quality_threshold);
+        ImVec2(start.x + pad + histogram_width, start.y + inner_height), histogram_methods, fonts_,
+        settings_.view.shading == "quality", settings_.view.quality_threshold, measure);
     const float table_x = start.x + 2.5f * pad + histogram_width;
     const float table_width = start.x + available.x - pad - table_x;
     // Two column groups (half the rows) when one group is too tall; the smaller face when the

@@ -108,12 +108,32 @@ void App::draw_toolbar() {
     ImGui::Checkbox("Wireframe", &view.wireframe);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the triangle edges  (W)");
     if (view.shading == "quality") {
+        // The measure the colours (and the histograms) show, and the red threshold.
+        ImGui::SameLine();
+        const ShapeMeasure measure = color_by();
+        const std::string symbol(label_of(measure));
+        ImGui::SetNextItemWidth(ImGui::CalcTextSize("radius ratio").x + ImGui::GetFrameHeight() +
+                                2 * ImGui::GetStyle().FramePadding.x);
+        if (ImGui::BeginCombo("##color by", symbol.c_str())) {
+            for (const Named<ShapeMeasure>& row : name_table(ShapeMeasure{})) {
+                const std::string item =
+                    std::string(row.label) + " = " + std::string(measure_definition(row.value));
+                if (ImGui::Selectable(item.c_str(), row.value == measure))
+                    view.color_by = std::string(row.name);
+            }
+            ImGui::EndCombo();
+        }
+        record("color_by");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("colour the triangles by %s = %s", symbol.c_str(),
+                              std::string(measure_definition(measure)).c_str());
         ImGui::SameLine();
         ImGui::SetNextItemWidth(8.5f * fonts_.size);
-        ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, "red: q < %.2f");
+        const std::string format = "red: " + symbol + " < %.2f";
+        ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, format.c_str());
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("triangles whose quality q (smallest / largest angle) is under this "
-                              "value are drawn red");
+            ImGui::SetTooltip("triangles whose %s is under this value are drawn red",
+                              symbol.c_str());
     }
     // The camera group on a second row when the first has no room for it.
     float camera_width = ImGui::CalcTextSize("Camera").x + ImGui::CalcTextSize("Reset").x +
@@ -158,6 +178,7 @@ void App::draw_views(float width, float height) {
     const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
     view_aspect_ = view_width / view_height;
     frame_camera_if_needed();
+    views_->set_measure(color_by());
     views_->render(int(std::lround(view_width * scale.x)), int(std::lround(view_height * scale.y)),
                    camera_, draw_style());
 
@@ -243,7 +264,7 @@ void App::draw_views(float width, float height) {
                           ImVec2(right + pad, bottom + pad), IM_COL32(200, 204, 212, 255), pad);
             render::draw_quality_legend(draw, ImVec2(right - legend_width, bottom - legend.y),
                                         ImVec2(right, bottom), settings_.view.quality_threshold,
-                                        fonts_);
+                                        fonts_, color_by());
         }
     }
     views_rect_ = UiRect{origin.x, origin.y, origin.x + 2 * view_width + gap,

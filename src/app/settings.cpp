@@ -230,6 +230,8 @@ const std::vector<Field>& fields() {
                  string_field("shading", SNERT_MEMBER(view.shading), {"flat", "smooth", "quality"}),
                  bool_field("wireframe", SNERT_MEMBER(view.wireframe)),
                  float_field("quality_threshold", SNERT_MEMBER(view.quality_threshold), 0, 1),
+                 string_field("color_by", SNERT_MEMBER(view.color_by),
+                              {"q", "q60", "radius-ratio"}),
                  string_field("view", SNERT_MEMBER(view.preset), {"front", "side", "top", "iso"}),
                  int_field("window_width", SNERT_MEMBER(layout.window_width), 320, 16384),
                  int_field("window_height", SNERT_MEMBER(layout.window_height), 240, 16384),

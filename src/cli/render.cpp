@@ -114,6 +114,10 @@ Runner add_render(CLI::App& app) {
                     "facets, smooth surface, or colour by triangle quality (smallest / largest "
                     "angle)")
         ->group(group);
+    add_name_option(*command, "--color-by", f.color_by,
+                    "what quality shading and the histograms show: q (smallest / largest "
+                    "angle), q60 (smallest angle / 60 degrees) or radius-ratio (2 r / R)")
+        ->group(group);
     command
         ->add_option("--threshold", f.style.quality_threshold,
                      "quality shading: triangles with quality under Q in red")

@@ -109,7 +109,8 @@ std::vector<glm::vec3> all_vertices(std::span<const FigureMethod> methods) {
 }
 
 void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
-                  const FigureOptions& options, const FigureFonts& fonts) {
+                  std::span<const PanelMethod> histogram_panels, const FigureOptions& options,
+                  const FigureFonts& fonts) {
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
     ImGui::SetNextWindowSize(io.DisplaySize, ImGuiCond_Always);
@@ -127,10 +128,11 @@ void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
     const bool quality = options.style.shading == Shading::Quality;
     if (rects.legend.width > 0.0f)
         draw_quality_legend(draw, min_of(rects.legend), max_of(rects.legend),
-                            options.style.quality_threshold, fonts);
+                            options.style.quality_threshold, fonts, options.color_by);
     if (options.layout == FigureLayout::Comparison) {
-        draw_quality_histograms(draw, min_of(rects.histogram), max_of(rects.histogram), panels,
-                                fonts, quality, options.style.quality_threshold);
+        draw_quality_histograms(draw, min_of(rects.histogram), max_of(rects.histogram),
+                                histogram_panels, fonts, quality, options.style.quality_threshold,
+                                options.color_by);
         // Two column groups are narrower: their text in the small face, as the app does.
         FigureFonts table_fonts = fonts;
         const bool compact = rects.table_groups > 1;
@@ -171,7 +173,17 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
 
     MeshRenderer renderer;
     std::vector<MeshView> views(methods.size());
-    for (std::size_t i = 0; i < methods.size(); ++i) views[i].upload(*methods[i].mesh);
+    // The histograms show the measure the colours do: its mean and bins in a copy of the metrics.
+    std::vector<MethodMetrics> histogram_metrics(methods.size());
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+        const TriangleMeasures measures = triangle_measures(*methods[i].mesh);
+        views[i].upload(*methods[i].mesh, measures.of(options.color_by));
+        if (!methods[i].metrics) continue;
+        const MeasureSummary summary = summarize_measure(measures.of(options.color_by));
+        histogram_metrics[i] = *methods[i].metrics;
+        histogram_metrics[i].quality.mean = summary.mean;
+        histogram_metrics[i].quality.histogram = summary.histogram;
+    }
 
     // One camera for all views, framing every mesh, so the same region of each is compared.
     OrbitCamera camera =
@@ -184,12 +196,17 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
         renderer.draw(views[i], camera, viewport, options.style);
     }
 
-    std::vector<PanelMethod> panels;
-    for (const FigureMethod& m : methods) panels.push_back({m.method, m.title, m.metrics});
+    std::vector<PanelMethod> panels, histogram_panels;
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+        const FigureMethod& m = methods[i];
+        panels.push_back({m.method, m.title, m.metrics});
+        histogram_panels.push_back(
+            {m.method, m.title, m.metrics ? &histogram_metrics[i] : nullptr});
+    }
     ImGuiOffscreen gui(rects.font_px);
     target.bind();
     gui.draw(options.width, options.height,
-             [&] { draw_overlay(rects, panels, options, gui.fonts()); });
+             [&] { draw_overlay(rects, panels, histogram_panels, options, gui.fonts()); });
     return target.read();
 }
 

@@ -87,6 +87,8 @@ struct FigureOptions {
     ViewPreset view = ViewPreset::Iso;
     float zoom = 1.0f; // > 1 moves the shared camera closer (close-ups)
     DrawStyle style;
+    // What quality shading colours and the histograms show (the table keeps every measure).
+    ShapeMeasure color_by = ShapeMeasure::Quality;
     std::string caption; // a line of small text under the figure; empty: none
     int samples = 4;     // MSAA samples
 };

@@ -856,3 +856,29 @@ TEST(AppViews, LayoutFitsSmallScreens) {
         }
     }
 }
+
+// Colour by q60: picked in the toolbar's combo, the views get the worker's per-triangle values
+// (no new mesh, one redraw) and the histograms its summary, which agrees with the core's.
+TEST(AppViews, ColourByAnotherMeasure) {
+    auto h = make_app(2);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    h->tap(key::Q); // quality shading shows the combo
+    EXPECT_EQ(app.view_renderer().measure(), ShapeMeasure::Quality);
+    const int uploads = app.view_renderer().uploads(0).uploads;
+    const int draws = app.view_renderer().view_draws(0);
+    click_widget(*h, "color_by");
+    const UiRect combo = *app.widget_rect("color_by");
+    // The list opens under the combo: q, q60, radius ratio, one line each.
+    h->click(combo.x0 + 10, combo.y1 + 1.5f * combo.height() + 4);
+    h->frame();
+    EXPECT_EQ(app.settings().view.color_by, "q60");
+    EXPECT_EQ(app.color_by(), ShapeMeasure::Quality60);
+    EXPECT_EQ(app.view_renderer().measure(), ShapeMeasure::Quality60);
+    EXPECT_EQ(app.view_renderer().uploads(0).uploads, uploads);
+    EXPECT_GT(app.view_renderer().view_draws(0), draws);
+    const QualityStats core = quality_stats(app.results().mc->mesh);
+    EXPECT_NEAR(app.results().mc->summary(ShapeMeasure::Quality60).mean, core.quality60_mean, 1e-6);
+    EXPECT_NEAR(app.results().frame->summary(ShapeMeasure::RadiusRatio).mean,
+                quality_stats(app.results().frame->mesh).radius_ratio_mean, 1e-6);
+}

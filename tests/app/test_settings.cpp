@@ -28,7 +28,7 @@ TEST(Settings, RoundTripsEveryField) {
     s.parameters.relax.max_iterations = 345;
     s.parameters.relax.epsilon = 3e-5f;
     s.parameters.triangulation = TriangulationRule::Delaunay;
-    s.view = {"smooth", true, 0.3f, "top"};
+    s.view = {"smooth", true, 0.3f, "top", "radius-ratio"};
     s.layout.window_width = 1000;
     s.layout.bottom_tab = 1;
     s.play_speed = 25;
@@ -61,6 +61,7 @@ TEST(Settings, RoundTripsEveryField) {
     EXPECT_TRUE(back.view.wireframe);
     EXPECT_EQ(back.view.quality_threshold, 0.3f);
     EXPECT_EQ(back.view.preset, "top");
+    EXPECT_EQ(back.view.color_by, "radius-ratio");
     EXPECT_EQ(back.layout.window_width, 1000);
     EXPECT_EQ(back.layout.bottom_tab, 1);
     EXPECT_EQ(back.play_speed, 25.0f);
