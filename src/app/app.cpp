@@ -173,6 +173,8 @@ void App::frame() {
 
     draw_status_bar();
     if (!capturing_) {
+        draw_pick_panel();
+        draw_explain_window();
         draw_help_window();
         draw_about_window();
     }

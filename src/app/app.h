@@ -29,6 +29,7 @@
 // when something they show changed.
 #pragma once
 
+#include <array>
 #include <future>
 #include <map>
 #include <memory>
@@ -98,6 +99,19 @@ struct UiRect {
     float centre_y() const { return 0.5f * (y0 + y1); }
 };
 
+// A triangle clicked in a 3D view and what the pick panel says about it (core/triangle_pick.h,
+// core/metrics.h): its angles, its shape by each measure, its corners' distances to the
+// iso-surface. Follows the iteration shown: the same triangle of the view's current mesh.
+struct PickedTriangle {
+    int view = 0; // 0 Marching Cubes, 1 the net
+    std::shared_ptr<const DisplayMesh> mesh;
+    std::size_t triangle = 0;
+    std::array<glm::vec3, 3> corners{}; // world millimetres
+    std::array<float, 3> angles{};      // degrees, at the three corners
+    TriangleShape shape;
+    std::array<float, 3> iso_distance{}; // voxels, |first-order distance|; NaN: no reference
+};
+
 // A screenshot the glue takes after rendering the frame: `region` of the window (the views
 // with their titles), saved as a PNG at `path`.
 struct ScreenshotRequest {
@@ -137,6 +151,12 @@ class App {
     void set_playing(bool playing);
     void run_to_convergence();
     void reset_camera();
+    // What a click in a 3D view does: picks the triangle under window point (x, y) of `view`
+    // (0 Marching Cubes, 1 the net); false (and nothing picked) when no triangle is there.
+    bool pick(int view, float x, float y);
+    const std::optional<PickedTriangle>& picked() const { return picked_; }
+    bool explain_open() const { return explain_open_; }
+    void set_explain_open(bool open) { explain_open_ = open; }
     void turn_camera(float delta_yaw, float delta_pitch) { camera_.orbit(delta_yaw, delta_pitch); }
     // A key went down (or repeats): shortcuts act on these events, not on the key's state at
     // frame time, so a press and release between two slow frames is not lost.
@@ -239,7 +259,10 @@ class App {
     void draw_help_window();
     void draw_about_window();
     void draw_dialogs();
-    void handle_view_input(const UiRect& area);
+    void handle_view_input(int view, const UiRect& area);
+    void measure_picked(std::shared_ptr<const DisplayMesh> mesh);
+    void draw_pick_panel();
+    void draw_explain_window();
     void record(const std::string& id); // the last item's rectangle under `id`
     void notice(std::string text, bool error = false);
     void source_loaded(const Source& source);
@@ -318,6 +341,9 @@ class App {
     std::vector<KeyPress> key_presses_; // since the last frame, oldest first
     UiRect views_rect_;                 // views + titles, for screenshots
     float side_panel_overflow_ = 0.0f;
+    std::optional<PickedTriangle> picked_;
+    std::array<UiRect, 2> view_rects_{}; // the two 3D views in the last frame
+    bool explain_open_ = false;
 };
 
 } // namespace snert::app

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <imgui.h>
@@ -134,6 +135,8 @@ void App::draw_menu_bar() {
     }
     if (ImGui::BeginMenu("Help")) {
         menu_action(*this, "Keys, mouse and what you see", Action::Help, help_open_);
+        if (ImGui::MenuItem("Explain the methods", nullptr, explain_open_))
+            explain_open_ = !explain_open_;
         ImGui::Separator();
         if (ImGui::MenuItem("About snert")) about_open_ = true;
         ImGui::EndMenu();
@@ -257,6 +260,74 @@ void App::draw_help_window() {
         ImGui::TextDisabled("Settings and layout are saved on exit (%s).",
                             options_.settings_path.empty() ? "not in this session"
                                                            : options_.settings_path.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::End();
+}
+
+// What each method does, in the paper's terms, for reading along: Marching Cubes and the mode
+// chosen in the panel stand out, the other modes are greyed.
+void App::draw_explain_window() {
+    if (!explain_open_) return;
+    if (ImGui::IsKeyPressed(key::Escape) && !ImGui::GetIO().WantTextInput) {
+        explain_open_ = false;
+        return;
+    }
+    const bool visible =
+        begin_centred_window("Explain: the methods", &explain_open_, 36.0f * fonts_.size);
+    if (visible) {
+        record("explain_window");
+        struct Paragraph {
+            const char* title;
+            std::optional<RelaxMode> mode; // empty: Marching Cubes, always shown
+            const char* text;
+        };
+        static const Paragraph paragraphs[] = {
+            {"Marching Cubes (left view)", std::nullopt,
+             "Every cell of 2 x 2 x 2 voxels that the iso-surface crosses gets a vertex on each "
+             "cut edge, where the linear interpolation of the two grey values reaches the iso "
+             "value, and triangles from a fixed table of cut patterns. The vertices lie on the "
+             "surface, but the triangles follow the grid: slivers wherever the surface passes "
+             "close to a voxel."},
+            {"SNA: SurfaceNet averaging (eqs. 1-2)", RelaxMode::Averaging,
+             "A SurfaceNet has one node in every surface cell, linked to the nodes of the "
+             "neighbouring surface cells. Each iteration moves a node by the averaging vector "
+             "a, the mean of its linked neighbours minus the node (eq. 1), constrained to its "
+             "cell by c (eq. 2). The net becomes smooth with well-shaped triangles, but it "
+             "shrinks: averaging pulls a curved surface inwards."},
+            {"Gradient step (eqs. 3-4)", RelaxMode::Gradient,
+             "Each node moves along the grey values' gradient g by the distance d that a linear "
+             "model of the grey values predicts to the iso value (eqs. 3-4): the step d g puts "
+             "it on the iso-surface. Alone it makes the net accurate but keeps the grid's "
+             "stair steps."},
+            {"SNERT: both, in the surface (eqs. 5-6)", RelaxMode::Snert,
+             "The averaging vector is projected onto the surface's tangent plane, a_p (eq. 5), "
+             "so it smooths without shrinking, and the gradient step d g keeps the node on the "
+             "iso-surface; the weighted sum is constrained to the cell by c (eq. 6). The mesh "
+             "is as accurate as Marching Cubes' with far better triangles."},
+        };
+        const RelaxMode mode = settings_.parameters.relax.mode;
+        ImGui::PushTextWrapPos(34.0f * fonts_.size);
+        for (const Paragraph& p : paragraphs) {
+            const bool current = !p.mode || *p.mode == mode;
+            ImGui::PushFont(fonts_.bold);
+            if (current)
+                ImGui::TextUnformatted(p.title);
+            else
+                ImGui::TextDisabled("%s", p.title);
+            ImGui::PopFont();
+            if (p.mode && *p.mode == mode) {
+                ImGui::SameLine();
+                ImGui::TextColored(ImVec4(0.0f, 0.40f, 0.63f, 1.0f), "(the mode chosen)");
+            }
+            ImGui::PushStyleColor(
+                ImGuiCol_Text,
+                ImGui::GetStyleColorVec4(current ? ImGuiCol_Text : ImGuiCol_TextDisabled));
+            ImGui::TextWrapped("%s", p.text);
+            ImGui::PopStyleColor();
+            ImGui::Spacing();
+        }
+        ImGui::TextDisabled("Equation numbers: de Bruin et al., MICCAI 2000 (Help > About).");
         ImGui::PopTextWrapPos();
     }
     ImGui::End();

@@ -212,7 +212,27 @@ void App::draw_views(float width, float height) {
                                    ImGuiButtonFlags_MouseButtonRight |
                                    ImGuiButtonFlags_MouseButtonMiddle);
         record(i == 0 ? "view_mc" : "view_net");
-        handle_view_input(UiRect{view_min.x, view_min.y, view_max.x, view_max.y});
+        view_rects_[std::size_t(i)] = UiRect{view_min.x, view_min.y, view_max.x, view_max.y};
+        handle_view_input(i, view_rects_[std::size_t(i)]);
+        // The picked triangle, outlined where it is now.
+        if (picked_ && picked_->view == i && picked_->mesh == meshes[i]) {
+            const glm::mat4 to_clip = camera_.projection(view_width / view_height) * camera_.view();
+            ImVec2 corners[3];
+            bool in_front = true;
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec4 c = to_clip * glm::vec4(picked_->corners[std::size_t(k)], 1.0f);
+                in_front = in_front && c.w > 0;
+                corners[k] = ImVec2(view_min.x + (0.5f + 0.5f * c.x / c.w) * view_width,
+                                    view_min.y + (0.5f - 0.5f * c.y / c.w) * view_height);
+            }
+            if (in_front) {
+                draw->PushClipRect(view_min, view_max, true);
+                draw->AddPolyline(corners, 3, IM_COL32(255, 255, 255, 255), ImDrawFlags_Closed,
+                                  4.0f);
+                draw->AddPolyline(corners, 3, IM_COL32(214, 0, 120, 255), ImDrawFlags_Closed, 2.0f);
+                draw->PopClipRect();
+            }
+        }
 
         // Overlays: what is happening when there is nothing (yet) to see.
         if (!meshes[i]) {
@@ -274,8 +294,12 @@ void App::draw_views(float width, float height) {
     ImGui::Dummy(ImVec2(width, 0));
 }
 
-void App::handle_view_input(const UiRect& area) {
+void App::handle_view_input(int view, const UiRect& area) {
     const ImGuiIO& io = ImGui::GetIO();
+    // A click (the mouse hardly moved while down) picks a triangle; a drag turns the camera.
+    if (ImGui::IsItemDeactivated() && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
+        io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left] < 9.0f)
+        pick(view, io.MousePos.x, io.MousePos.y);
     if (ImGui::IsItemHovered()) {
         if (io.MouseWheel != 0) camera_.zoom(std::pow(1.12f, io.MouseWheel));
         if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) reset_camera();

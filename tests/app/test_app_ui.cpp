@@ -14,6 +14,7 @@
 
 #include "app/headless.h"
 #include "app/view_renderer.h"
+#include "core/triangle_pick.h"
 #include "support/read_mesh.h"
 #include "support/real_data.h"
 #include "support/temp_folder.h"
@@ -881,4 +882,68 @@ TEST(AppViews, ColourByAnotherMeasure) {
     EXPECT_NEAR(app.results().mc->summary(ShapeMeasure::Quality60).mean, core.quality60_mean, 1e-6);
     EXPECT_NEAR(app.results().frame->summary(ShapeMeasure::RadiusRatio).mean,
                 quality_stats(app.results().frame->mesh).radius_ratio_mean, 1e-6);
+}
+
+// A click in a view picks the triangle under the mouse; the panel's numbers are the core's for
+// that triangle. Marching Cubes' corners lie on the iso-surface; the net's triangle follows the
+// iteration shown.
+TEST(AppViews, ClickPicksATriangle) {
+    auto h = make_app(4);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    const UiRect mc = *app.widget_rect("view_mc");
+    h->click(mc.centre_x(), mc.centre_y());
+    ASSERT_TRUE(app.picked());
+    PickedTriangle p = *app.picked();
+    EXPECT_EQ(p.view, 0);
+    EXPECT_EQ(p.mesh, app.results().mc);
+    const Mesh& m = app.results().mc->mesh;
+    ASSERT_LT(p.triangle, m.triangle_count());
+    glm::vec3 c[3];
+    for (int k = 0; k < 3; ++k) c[k] = m.positions[m.indices[3 * p.triangle + std::size_t(k)]];
+    const TriangleShape shape = triangle_shape(c[0], c[1], c[2]);
+    EXPECT_EQ(p.shape.quality, shape.quality);
+    EXPECT_EQ(p.shape.quality60, shape.quality60);
+    EXPECT_EQ(p.shape.radius_ratio, shape.radius_ratio);
+    EXPECT_EQ(p.shape.quality, app.results().mc->quality[p.triangle]);
+    EXPECT_NEAR(p.angles[0] + p.angles[1] + p.angles[2], 180.0f, 1e-3f);
+    EXPECT_NEAR(std::min({p.angles[0], p.angles[1], p.angles[2]}), shape.min_angle, 1e-3f);
+    // The ray through the view's centre: the sphere's nearest point to the eye is in front.
+    EXPECT_GT(glm::dot(glm::normalize(c[0] - app.camera().target),
+                       glm::normalize(app.camera().eye() - app.camera().target)),
+              0.9f);
+    for (float d : p.iso_distance) EXPECT_LT(d, 0.05f); // on the phantom's exact sphere
+    ASSERT_TRUE(app.widget_rect("pick_panel"));
+
+    // The net: picked at iteration 4, then step back: the same triangle of iteration 3.
+    const UiRect net = *app.widget_rect("view_net");
+    h->click(net.centre_x(), net.centre_y());
+    ASSERT_TRUE(app.picked());
+    EXPECT_EQ(app.picked()->view, 1);
+    const std::size_t triangle = app.picked()->triangle;
+    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->quality[triangle]);
+    app.step(-1);
+    ASSERT_TRUE(h->run_until(settled));
+    h->frame();
+    ASSERT_TRUE(app.picked());
+    EXPECT_EQ(app.picked()->mesh->iteration, 3);
+    EXPECT_EQ(app.picked()->triangle, triangle);
+    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->quality[triangle]);
+
+    // A click beside the mesh picks nothing; a drag turns the camera and picks nothing new.
+    h->click(net.x0 + 3, net.y0 + 3);
+    EXPECT_FALSE(app.picked());
+    h->drag(net.centre_x(), net.centre_y(), net.centre_x() + 40, net.centre_y());
+    EXPECT_FALSE(app.picked());
+}
+
+// The explain window follows the mode chosen, and Escape closes it.
+TEST(AppUi, ExplainWindowOpensAndCloses) {
+    auto h = make_app(1);
+    h->app().set_explain_open(true);
+    h->frame();
+    h->frame();
+    EXPECT_TRUE(h->app().widget_rect("explain_window"));
+    h->tap(key::Escape);
+    EXPECT_FALSE(h->app().explain_open());
 }
