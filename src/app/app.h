@@ -156,6 +156,9 @@ class App {
     bool pick(int view, float x, float y);
     const std::optional<PickedTriangle>& picked() const { return picked_; }
     bool explain_open() const { return explain_open_; }
+    // The `snert render` command line that draws the input shown with the views' camera
+    // (View > Copy camera as command line puts it on the clipboard).
+    std::string camera_command() const;
     void set_explain_open(bool open) { explain_open_ = open; }
     void turn_camera(float delta_yaw, float delta_pitch) { camera_.orbit(delta_yaw, delta_pitch); }
     // A key went down (or repeats): shortcuts act on these events, not on the key's state at

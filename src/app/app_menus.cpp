@@ -113,6 +113,11 @@ void App::draw_menu_bar() {
         menu_action(*this, "Top", Action::ViewTop);
         menu_action(*this, "Iso", Action::ViewIso);
         menu_action(*this, "Reset camera", Action::ResetCamera);
+        if (ImGui::MenuItem("Copy camera as command line")) {
+            const std::string command = camera_command();
+            ImGui::SetClipboardText(command.c_str());
+            notice("copied: " + command);
+        }
         ImGui::Separator();
         menu_action(*this, "Parameter panel", Action::ToggleSidePanel,
                     settings_.layout.show_side_panel);
@@ -205,6 +210,34 @@ void App::draw_status_bar() {
     ImGui::SameLine(help_x);
     ImGui::TextDisabled("%s", help.c_str());
     ImGui::End();
+}
+
+std::string App::camera_command() const {
+    const SourceSpec& v = loaded_ ? *loaded_ : settings_.parameters.volume;
+    auto quoted = [](const std::string& text) {
+        if (text.find_first_of(" '\"$\\") == std::string::npos) return text;
+        std::string out(1, '\'');
+        for (const char c : text) {
+            if (c == '\'')
+                out.append("'\\''");
+            else
+                out.push_back(c);
+        }
+        out.push_back('\'');
+        return out;
+    };
+    std::string command = "snert render " + quoted(v.input);
+    if (v.is_phantom()) command += " --size " + std::to_string(v.phantom_size);
+    if (!v.labels.empty()) command += " --labels " + quoted(v.labels);
+    if (v.label) command += " --label " + std::to_string(*v.label);
+    char iso[48];
+    std::snprintf(iso, sizeof iso, " --iso %.9g", double(results_.iso));
+    command += iso;
+    if (settings_.parameters.inside == InsideIs::Below) command += " --inside below";
+    command.append(" --mode ").append(name_of(settings_.parameters.relax.mode));
+    command.append(" ").append(render::camera_arguments(render::camera_spec_of(camera_)));
+    command.append(" --out snert-view.png");
+    return command;
 }
 
 void App::draw_help_window() {

@@ -11,8 +11,8 @@ namespace {
 
 bool same_camera(const render::OrbitCamera& a, const render::OrbitCamera& b) {
     return a.target == b.target && a.distance == b.distance && a.yaw == b.yaw &&
-           a.pitch == b.pitch && a.fov_y == b.fov_y && a.near_plane == b.near_plane &&
-           a.far_plane == b.far_plane;
+           a.pitch == b.pitch && a.roll == b.roll && a.fov_y == b.fov_y &&
+           a.near_plane == b.near_plane && a.far_plane == b.far_plane;
 }
 
 bool same_style(const render::DrawStyle& a, const render::DrawStyle& b) {

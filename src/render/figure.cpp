@@ -37,7 +37,7 @@ std::span<const Named<FigureLayout>> name_table(FigureLayout) {
 }
 
 FigureRects layout_figure(int width, int height, int view_count, FigureLayout layout,
-                          bool with_legend, bool with_caption) {
+                          bool with_legend, bool with_caption, float font_scale) {
     if (view_count < 1) throw std::invalid_argument("a figure needs at least one view");
     const bool panels = layout == FigureLayout::Comparison;
     const int min_width = panels ? 160 : 64, min_height = panels ? 120 : 48;
@@ -47,7 +47,8 @@ FigureRects layout_figure(int width, int height, int view_count, FigureLayout la
                                     "at least " + std::to_string(min_width) + "x" +
                                     std::to_string(min_height) + ")");
     FigureRects r;
-    const float f = figure_font_size(width, height);
+    const float f =
+        std::clamp(std::round(figure_font_size(width, height) * font_scale), 6.0f, 60.0f);
     r.font_px = f;
     const float w = float(width), h = float(height);
     const float margin = std::round(0.7f * f);
@@ -163,8 +164,9 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
         if (m.mesh == nullptr) throw std::invalid_argument("render_figure: method without mesh");
     if (!(options.zoom > 0.0f)) throw std::invalid_argument("zoom must be positive");
     const bool legend = options.style.shading == Shading::Quality;
-    const FigureRects rects = layout_figure(options.width, options.height, int(methods.size()),
-                                            options.layout, legend, !options.caption.empty());
+    const FigureRects rects =
+        layout_figure(options.width, options.height, int(methods.size()), options.layout, legend,
+                      !options.caption.empty(), options.font_scale);
 
     RenderTarget target(options.width, options.height, options.samples);
     target.bind();
@@ -190,6 +192,7 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
         frame_points(all_vertices(methods), options.view,
                      rects.views.front().width / rects.views.front().height, kFigureMargin);
     camera.zoom(options.zoom);
+    apply_camera_spec(camera, options.camera, all_vertices(methods));
     for (std::size_t i = 0; i < methods.size(); ++i) {
         const Viewport viewport = to_viewport(rects.views[i], options.height);
         renderer.draw_background(viewport, options.style);

@@ -947,3 +947,24 @@ TEST(AppUi, ExplainWindowOpensAndCloses) {
     h->tap(key::Escape);
     EXPECT_FALSE(h->app().explain_open());
 }
+
+// View > Copy camera: a snert render command line with the views' camera, which applied to a
+// freshly framed camera gives the views' camera back.
+TEST(AppViews, CameraCopiesAsACommandLine) {
+    auto h = make_app(1);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    app.turn_camera(0.4f, -0.2f);
+    h->frame();
+    const std::string command = app.camera_command();
+    EXPECT_EQ(command.rfind("snert render phantom:sphere --size 32 --iso ", 0), 0u) << command;
+    const std::string arguments = render::camera_arguments(render::camera_spec_of(app.camera()));
+    EXPECT_NE(command.find(" --mode snert " + arguments + " --out "), std::string::npos) << command;
+    render::OrbitCamera other;
+    render::apply_camera_spec(other, render::camera_spec_of(app.camera()),
+                              app.results().mc->mesh.positions);
+    EXPECT_NEAR(other.yaw, app.camera().yaw, 1e-6f);
+    EXPECT_NEAR(other.pitch, app.camera().pitch, 1e-6f);
+    EXPECT_EQ(other.target, app.camera().target);
+    EXPECT_EQ(other.distance, app.camera().distance);
+}
