@@ -235,6 +235,8 @@ std::string App::camera_command() const {
     command += iso;
     if (settings_.parameters.inside == InsideIs::Below) command += " --inside below";
     command.append(" --mode ").append(name_of(settings_.parameters.relax.mode));
+    // The iteration shown, exactly (snert render --iteration K relaxes K times).
+    if (results_.frame) command.append(" --iteration ").append(std::to_string(shown_iteration()));
     command.append(" ").append(render::camera_arguments(render::camera_spec_of(camera_)));
     command.append(" --out snert-view.png");
     return command;

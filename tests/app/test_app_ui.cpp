@@ -959,7 +959,9 @@ TEST(AppViews, CameraCopiesAsACommandLine) {
     const std::string command = app.camera_command();
     EXPECT_EQ(command.rfind("snert render phantom:sphere --size 32 --iso ", 0), 0u) << command;
     const std::string arguments = render::camera_arguments(render::camera_spec_of(app.camera()));
-    EXPECT_NE(command.find(" --mode snert " + arguments + " --out "), std::string::npos) << command;
+    EXPECT_NE(command.find(" --mode snert --iteration 1 " + arguments + " --out "),
+              std::string::npos)
+        << command;
     render::OrbitCamera other;
     render::apply_camera_spec(other, render::camera_spec_of(app.camera()),
                               app.results().mc->mesh.positions);
