@@ -65,7 +65,10 @@ App::App(AppOptions options)
     if (options_.source && !(*options_.source == p.volume)) {
         before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside}; // the saved input's, for a fallback
         p.volume = *options_.source;
-        p.auto_iso = true; // a saved iso belongs to the saved volume
+        // A saved iso belongs to the saved volume; this one may have its own from before.
+        const auto remembered = settings_.iso_by_input.find(format_source_line(p.volume));
+        p.auto_iso = remembered == settings_.iso_by_input.end();
+        if (!p.auto_iso) p.iso = remembered->second;
     }
     if (options_.iso) {
         p.iso = *options_.iso;
@@ -106,6 +109,9 @@ const SlicePanel& App::slice_panel() const {
 void App::frame() {
     const float dt = ImGui::GetIO().DeltaTime;
     rects_.clear();
+    // A screenshot asked for in the last frame is taken of this one, drawn without the dialog
+    // that asked for it (closed now) and without the hints over the views.
+    capturing_ = screenshot_pending_;
     drain_worker();
     handle_shortcuts();
     advance_playback(dt);
@@ -151,8 +157,9 @@ void App::frame() {
                       ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
     float bottom = 0;
     if (layout.show_bottom_panel) {
+        // At most about 40 % of the height: the views keep theirs on a small screen.
         layout.bottom_panel_height = std::clamp(layout.bottom_panel_height, 6.0f * fonts_.size,
-                                                std::max(main_size.y * 0.65f, 6.0f * fonts_.size));
+                                                std::max(main_size.y * 0.4f, 6.0f * fonts_.size));
         bottom = layout.bottom_panel_height + splitter;
     }
     const float views_height = std::max(main_size.y - bottom, 4.0f * fonts_.size);
@@ -175,9 +182,14 @@ void App::frame() {
     ImGui::End();
 
     draw_status_bar();
-    draw_help_window();
-    draw_about_window();
+    if (!capturing_) {
+        draw_pick_panel();
+        draw_explain_window();
+        draw_help_window();
+        draw_about_window();
+    }
     draw_dialogs();
+    remember_iso();
     restart_if_changed();
 }
 
@@ -210,7 +222,17 @@ void App::drain_worker() {
     }
     views_->set_mesh(0, shown_mc());
     views_->set_mesh(1, shown_net());
-    frame_camera_if_needed();
+}
+
+// The iso chosen by hand for the input shown, kept for when it is opened again.
+void App::remember_iso() {
+    const Parameters& p = settings_.parameters;
+    if (!loaded_ || !(*loaded_ == p.volume) || p.volume.is_phantom()) return;
+    const std::string key = format_source_line(p.volume);
+    if (p.auto_iso)
+        settings_.iso_by_input.erase(key);
+    else
+        settings_.iso_by_input[key] = p.iso;
 }
 
 bool App::showing_equal_count() const {
@@ -301,7 +323,9 @@ void App::open(const SourceSpec& spec) {
     if (p.volume == spec) return;
     if (!before_open_) before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside};
     p.volume = spec;
-    p.auto_iso = true;
+    const auto remembered = settings_.iso_by_input.find(format_source_line(spec));
+    p.auto_iso = remembered == settings_.iso_by_input.end();
+    if (!p.auto_iso) p.iso = remembered->second;
     load_error_.clear();
     scan_series(spec.input);
 }
@@ -483,12 +507,20 @@ render::DrawStyle App::draw_style() const {
     return style;
 }
 
+// Called once the views' size is known (view_aspect_), so the new volume fills them. The
+// meshes of the input shown before stay until the new ones arrive: framing waits for a mesh of
+// the current job, or it would frame the old volume.
+ShapeMeasure App::color_by() const {
+    return parse_name<ShapeMeasure>(settings_.view.color_by).value_or(ShapeMeasure::Quality);
+}
+
 void App::frame_camera_if_needed() {
     if (!camera_needs_framing_) return;
-    if (const auto bounds = views_->bounds()) {
-        reset_camera();
-        camera_needs_framing_ = false;
-    }
+    const bool mc = results_.mc && !results_.mc->mesh.positions.empty();
+    const bool current = mc ? results_.mc_current : results_.frame && results_.frame_current;
+    if (!current || !views_->bounds()) return;
+    reset_camera();
+    camera_needs_framing_ = false;
 }
 
 void App::reset_camera() {
@@ -576,11 +608,14 @@ void App::perform(Action action) {
         focus_open_field_ = true;
         break;
     case Action::Screenshot:
-        screenshot_path_ = default_output_base() + ".png";
+        screenshot_path_ = default_output_base() +
+                           (results_.frame ? "-" + std::to_string(shown_iteration()) : "") + ".png";
+        dialog_folder_ = output_folder();
         screenshot_dialog_ = true;
         break;
     case Action::ExportMeshes:
         export_base_ = default_output_base();
+        dialog_folder_ = output_folder();
         export_dialog_ = true;
         break;
     case Action::ToggleSidePanel:
@@ -615,8 +650,24 @@ std::string App::default_output_base() const {
     else
         name += "-" + std::filesystem::path(v.input).stem().string();
     if (v.label) name += "-label" + std::to_string(*v.label);
-    if (results_.frame) name += "-" + std::to_string(results_.frame->iteration);
     return name;
+}
+
+std::string App::output_folder() const {
+    namespace fs = std::filesystem;
+    std::error_code error;
+    const std::string& last = settings_.output_folder;
+    if (!last.empty() && fs::is_directory(last, error)) return last;
+    return fs::current_path(error).string();
+}
+
+float App::iso_step() const {
+    if (!results_.source) return 1.0f;
+    const Source& source = *results_.source;
+    if (source.info && source.info->scalar_type.find("int") != std::string::npos) return 1.0f;
+    const double range = double(source.histogram.hi) - double(source.histogram.lo);
+    if (!(range > 0)) return 1.0f;
+    return float(std::pow(10.0, std::floor(std::log10(range / 1000.0))));
 }
 
 void App::request_screenshot(const std::string& path) {
@@ -625,7 +676,7 @@ void App::request_screenshot(const std::string& path) {
 }
 
 std::optional<ScreenshotRequest> App::take_screenshot_request() {
-    if (!screenshot_pending_) return std::nullopt;
+    if (!screenshot_pending_ || !capturing_) return std::nullopt;
     screenshot_pending_ = false;
     return ScreenshotRequest{screenshot_pending_path_, views_rect_};
 }
@@ -650,13 +701,18 @@ bool App::save_screenshot(const render::Image& window_image, const ScreenshotReq
         notice(std::string("screenshot failed: ") + e.what(), true);
         return false;
     }
-    notice("screenshot saved: " + request.path);
+    std::error_code error;
+    notice("screenshot saved: " +
+           std::filesystem::absolute(request.path, error).lexically_normal().string());
     return true;
 }
 
 std::vector<std::string> App::export_meshes(const std::string& base, const std::string& format,
                                             AbaqusElement element) {
     std::vector<std::string> written;
+    std::error_code error;
+    const std::string absolute_base =
+        std::filesystem::absolute(base, error).lexically_normal().string();
     auto write = [&](const DisplayMesh& shown, const std::string& path) {
         if (results_.source)
             export_mesh(shown.mesh, shown.method, *results_.source, results_.iso, path, element);
@@ -664,10 +720,12 @@ std::vector<std::string> App::export_meshes(const std::string& base, const std::
             write_mesh(shown.mesh, path);
         written.push_back(path);
     };
-    if (results_.mc) write(*results_.mc, base + "-mc." + format);
-    if (results_.frame)
-        write(*results_.frame, base + "-" + std::string(name_of(results_.frame->method)) + "-" +
-                                   std::to_string(results_.frame->iteration) + "." + format);
+    // The meshes shown: with the equal-count switch on, the reduced pair, named as such.
+    const std::string reduced = showing_equal_count() ? "-equal-count" : "";
+    if (const auto mc = shown_mc()) write(*mc, absolute_base + "-mc" + reduced + "." + format);
+    if (const auto net = shown_net())
+        write(*net, absolute_base + "-" + std::string(name_of(net->method)) + "-" +
+                        std::to_string(net->iteration) + reduced + "." + format);
     return written;
 }
 
@@ -701,7 +759,8 @@ bool App::animating() const {
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
     return worker_->busy() || worker_->has_messages() || playing_ || frame_due ||
            views_->needs_refine() || !requested_once_ ||
-           results_.generation != worker_->latest_generation() || notice_timer_ > 0;
+           results_.generation != worker_->latest_generation() || notice_timer_ > 0 ||
+           screenshot_pending_;
 }
 
 int App::view_render_count() const {

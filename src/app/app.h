@@ -29,6 +29,7 @@
 // when something they show changed.
 #pragma once
 
+#include <array>
 #include <future>
 #include <map>
 #include <memory>
@@ -104,6 +105,19 @@ struct UiRect {
     float centre_y() const { return 0.5f * (y0 + y1); }
 };
 
+// A triangle clicked in a 3D view and what the pick panel says about it (core/triangle_pick.h,
+// core/metrics.h): its angles, its shape by each measure, its corners' distances to the
+// iso-surface. Follows the iteration shown: the same triangle of the view's current mesh.
+struct PickedTriangle {
+    int view = 0; // 0 Marching Cubes, 1 the net
+    std::shared_ptr<const DisplayMesh> mesh;
+    std::size_t triangle = 0;
+    std::array<glm::vec3, 3> corners{}; // world millimetres
+    std::array<float, 3> angles{};      // degrees, at the three corners
+    TriangleShape shape;
+    std::array<float, 3> iso_distance{}; // voxels, |first-order distance|; NaN: no reference
+};
+
 // A screenshot the glue takes after rendering the frame: `region` of the window (the views
 // with their titles), saved as a PNG at `path`.
 struct ScreenshotRequest {
@@ -143,6 +157,15 @@ class App {
     void set_playing(bool playing);
     void run_to_convergence();
     void reset_camera();
+    // What a click in a 3D view does: picks the triangle under window point (x, y) of `view`
+    // (0 Marching Cubes, 1 the net); false (and nothing picked) when no triangle is there.
+    bool pick(int view, float x, float y);
+    const std::optional<PickedTriangle>& picked() const { return picked_; }
+    bool explain_open() const { return explain_open_; }
+    // The `snert render` command line that draws the input shown with the views' camera
+    // (View > Copy camera as command line puts it on the clipboard).
+    std::string camera_command() const;
+    void set_explain_open(bool open) { explain_open_ = open; }
     void turn_camera(float delta_yaw, float delta_pitch) { camera_.orbit(delta_yaw, delta_pitch); }
     // A key went down (or repeats): shortcuts act on these events, not on the key's state at
     // frame time, so a press and release between two slow frames is not lost.
@@ -155,7 +178,8 @@ class App {
     void request_screenshot(const std::string& path);
     // Writes the shown meshes as <base>-mc.<format> and <base>-<method>-<k>.<format> with
     // io's export_mesh, as `snert export` does (`element`: the triangles' type in an .inp);
-    // returns the files written. Throws std::runtime_error naming a file that failed.
+    // returns the files written (absolute paths). Throws std::runtime_error naming a file that
+    // failed.
     std::vector<std::string> export_meshes(const std::string& base, const std::string& format,
                                            AbaqusElement element = AbaqusElement::S3);
 
@@ -188,6 +212,7 @@ class App {
     // The views' renderer: per-view draws and uploads (view_renderer.h), for tests.
     const ViewRenderer& view_renderer() const { return *views_; }
     render::DrawStyle draw_style() const;
+    ShapeMeasure color_by() const; // the measure the colours and the histograms show
     // True while something is changing (a job, playback, a frame on its way): keep drawing
     // frames; otherwise the glue may sleep until the next input event.
     bool animating() const;
@@ -214,6 +239,15 @@ class App {
     // Shows an index-space point (picked in a 3D view) in the slice view, opening it.
     void show_in_slice(glm::vec3 index_point);
     const SlicePanel& slice_panel() const;
+    // How far the side panel's content runs past its height in the last frame (0: no scroll
+    // bar needed).
+    float side_panel_overflow() const { return side_panel_overflow_; }
+    // The iso value's step: 1 for a volume stored as integers, else a power of ten about a
+    // thousandth of the value range. The field steps by it; histogram clicks round to it.
+    float iso_step() const;
+    // The folder the screenshot and export dialogs write into (the last one used, else the
+    // working folder), absolute.
+    std::string output_folder() const;
     void show_about() { about_open_ = true; }
 
   private:
@@ -250,7 +284,10 @@ class App {
     void draw_help_window();
     void draw_about_window();
     void draw_dialogs();
-    void handle_view_input(const UiRect& area);
+    void handle_view_input(int view, const UiRect& area);
+    void measure_picked(std::shared_ptr<const DisplayMesh> mesh);
+    void draw_pick_panel();
+    void draw_explain_window();
     void record(const std::string& id); // the last item's rectangle under `id`
     void notice(std::string text, bool error = false);
     void source_loaded(const Source& source);
@@ -259,6 +296,7 @@ class App {
     void scan_series(const std::string& folder);
     void poll_series();
     void frame_camera_if_needed();
+    void remember_iso();
     std::string default_output_base() const;
 
     AppOptions options_;
@@ -318,6 +356,8 @@ class App {
     std::optional<ScreenshotRequest> screenshot_request_;
     bool screenshot_pending_ = false;
     std::string screenshot_pending_path_;
+    bool capturing_ = false;    // this frame is the screenshot's: no hints, no windows over it
+    std::string dialog_folder_; // the dialogs' folder field
     std::vector<Notice> notices_;
     float notice_timer_ = 0.0f;
     bool tab_restored_ = false; // the saved bottom tab was selected
@@ -334,6 +374,10 @@ class App {
     void draw_slice_area(float x, float y, float width, float height);
     void draw_crosshair(const UiRect& view, bool net_view);
     void pick_for_slice(const UiRect& view, bool net_view);
+    float side_panel_overflow_ = 0.0f;
+    std::optional<PickedTriangle> picked_;
+    std::array<UiRect, 2> view_rects_{}; // the two 3D views in the last frame
+    bool explain_open_ = false;
 };
 
 } // namespace snert::app

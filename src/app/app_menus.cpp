@@ -3,12 +3,15 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <string>
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
 #include "core/phantom.h"
+#include "path_completion.h"
 #include "render/panels.h"
 
 namespace snert::app {
@@ -110,6 +113,11 @@ void App::draw_menu_bar() {
         menu_action(*this, "Top", Action::ViewTop);
         menu_action(*this, "Iso", Action::ViewIso);
         menu_action(*this, "Reset camera", Action::ResetCamera);
+        if (ImGui::MenuItem("Copy camera as command line")) {
+            const std::string command = camera_command();
+            ImGui::SetClipboardText(command.c_str());
+            notice("copied: " + command);
+        }
         ImGui::Separator();
         menu_action(*this, "Parameter panel", Action::ToggleSidePanel,
                     settings_.layout.show_side_panel);
@@ -133,6 +141,8 @@ void App::draw_menu_bar() {
     }
     if (ImGui::BeginMenu("Help")) {
         menu_action(*this, "Keys, mouse and what you see", Action::Help, help_open_);
+        if (ImGui::MenuItem("Explain the methods", nullptr, explain_open_))
+            explain_open_ = !explain_open_;
         ImGui::Separator();
         if (ImGui::MenuItem("About snert")) about_open_ = true;
         ImGui::EndMenu();
@@ -203,8 +213,42 @@ void App::draw_status_bar() {
     ImGui::End();
 }
 
+std::string App::camera_command() const {
+    const SourceSpec& v = loaded_ ? *loaded_ : settings_.parameters.volume;
+    auto quoted = [](const std::string& text) {
+        if (text.find_first_of(" '\"$\\") == std::string::npos) return text;
+        std::string out(1, '\'');
+        for (const char c : text) {
+            if (c == '\'')
+                out.append("'\\''");
+            else
+                out.push_back(c);
+        }
+        out.push_back('\'');
+        return out;
+    };
+    std::string command = "snert render " + quoted(v.input);
+    if (v.is_phantom()) command += " --size " + std::to_string(v.phantom_size);
+    if (!v.labels.empty()) command += " --labels " + quoted(v.labels);
+    if (v.label) command += " --label " + std::to_string(*v.label);
+    char iso[48];
+    std::snprintf(iso, sizeof iso, " --iso %.9g", double(results_.iso));
+    command += iso;
+    if (settings_.parameters.inside == InsideIs::Below) command += " --inside below";
+    command.append(" --mode ").append(name_of(settings_.parameters.relax.mode));
+    // The iteration shown, exactly (snert render --iteration K relaxes K times).
+    if (results_.frame) command.append(" --iteration ").append(std::to_string(shown_iteration()));
+    command.append(" ").append(render::camera_arguments(render::camera_spec_of(camera_)));
+    command.append(" --out snert-view.png");
+    return command;
+}
+
 void App::draw_help_window() {
     if (!help_open_) return;
+    if (ImGui::IsKeyPressed(key::Escape) && !ImGui::GetIO().WantTextInput) {
+        help_open_ = false;
+        return;
+    }
     const bool visible = begin_centred_window("Help: snert", &help_open_, 40.0f * fonts_.size);
     if (visible) {
         ImGui::PushTextWrapPos(38.0f * fonts_.size);
@@ -257,6 +301,74 @@ void App::draw_help_window() {
     ImGui::End();
 }
 
+// What each method does, in the paper's terms, for reading along: Marching Cubes and the mode
+// chosen in the panel stand out, the other modes are greyed.
+void App::draw_explain_window() {
+    if (!explain_open_) return;
+    if (ImGui::IsKeyPressed(key::Escape) && !ImGui::GetIO().WantTextInput) {
+        explain_open_ = false;
+        return;
+    }
+    const bool visible =
+        begin_centred_window("Explain: the methods", &explain_open_, 36.0f * fonts_.size);
+    if (visible) {
+        record("explain_window");
+        struct Paragraph {
+            const char* title;
+            std::optional<RelaxMode> mode; // empty: Marching Cubes, always shown
+            const char* text;
+        };
+        static const Paragraph paragraphs[] = {
+            {"Marching Cubes (left view)", std::nullopt,
+             "Every cell of 2 x 2 x 2 voxels that the iso-surface crosses gets a vertex on each "
+             "cut edge, where the linear interpolation of the two grey values reaches the iso "
+             "value, and triangles from a fixed table of cut patterns. The vertices lie on the "
+             "surface, but the triangles follow the grid: slivers wherever the surface passes "
+             "close to a voxel."},
+            {"SNA: SurfaceNet averaging (eqs. 1-2)", RelaxMode::Averaging,
+             "A SurfaceNet has one node in every surface cell, linked to the nodes of the "
+             "neighbouring surface cells. Each iteration moves a node by the averaging vector "
+             "a, the mean of its linked neighbours minus the node (eq. 1), constrained to its "
+             "cell by c (eq. 2). The net becomes smooth with well-shaped triangles, but it "
+             "shrinks: averaging pulls a curved surface inwards."},
+            {"Gradient step (eqs. 3-4)", RelaxMode::Gradient,
+             "Each node moves along the grey values' gradient g by the distance d that a linear "
+             "model of the grey values predicts to the iso value (eqs. 3-4): the step d g puts "
+             "it on the iso-surface. Alone it makes the net accurate but keeps the grid's "
+             "stair steps."},
+            {"SNERT: both, in the surface (eqs. 5-6)", RelaxMode::Snert,
+             "The averaging vector is projected onto the surface's tangent plane, a_p (eq. 5), "
+             "so it smooths without shrinking, and the gradient step d g keeps the node on the "
+             "iso-surface; the weighted sum is constrained to the cell by c (eq. 6). The mesh "
+             "is as accurate as Marching Cubes' with far better triangles."},
+        };
+        const RelaxMode mode = settings_.parameters.relax.mode;
+        ImGui::PushTextWrapPos(34.0f * fonts_.size);
+        for (const Paragraph& p : paragraphs) {
+            const bool current = !p.mode || *p.mode == mode;
+            ImGui::PushFont(fonts_.bold);
+            if (current)
+                ImGui::TextUnformatted(p.title);
+            else
+                ImGui::TextDisabled("%s", p.title);
+            ImGui::PopFont();
+            if (p.mode && *p.mode == mode) {
+                ImGui::SameLine();
+                ImGui::TextColored(ImVec4(0.0f, 0.40f, 0.63f, 1.0f), "(the mode chosen)");
+            }
+            ImGui::PushStyleColor(
+                ImGuiCol_Text,
+                ImGui::GetStyleColorVec4(current ? ImGuiCol_Text : ImGuiCol_TextDisabled));
+            ImGui::TextWrapped("%s", p.text);
+            ImGui::PopStyleColor();
+            ImGui::Spacing();
+        }
+        ImGui::TextDisabled("Equation numbers: de Bruin et al., MICCAI 2000 (Help > About).");
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::End();
+}
+
 void App::draw_about_window() {
     if (!about_open_) return;
     const bool visible = begin_centred_window("About snert", &about_open_, 32.0f * fonts_.size);
@@ -293,15 +405,35 @@ void App::draw_dialogs() {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     const ImVec2 centre(viewport->Pos.x + 0.5f * viewport->Size.x,
                         viewport->Pos.y + 0.5f * viewport->Size.y);
+    // Both dialogs: the folder (the last one used, else the working folder) and a file name;
+    // the full path is shown before and reported after; Enter in a field confirms.
+    auto folder_field = [&] {
+        ImGui::SetNextItemWidth(30.0f * fonts_.size);
+        return ImGui::InputText("Folder", &dialog_folder_, ImGuiInputTextFlags_EnterReturnsTrue);
+    };
+    auto in_folder = [&](const std::string& name) {
+        return (std::filesystem::path(expand_home(dialog_folder_)) / name).lexically_normal();
+    };
+    auto remember_folder = [&] {
+        std::error_code error;
+        settings_.output_folder = std::filesystem::absolute(expand_home(dialog_folder_), error)
+                                      .lexically_normal()
+                                      .string();
+    };
     ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (ImGui::BeginPopupModal("Save screenshot", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("A PNG of the two views with their titles, at screen resolution.");
+        bool enter = folder_field();
+        record("screenshot_folder");
         ImGui::SetNextItemWidth(30.0f * fonts_.size);
         if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-        const bool enter =
-            ImGui::InputText("File", &screenshot_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+        enter |= ImGui::InputText("File", &screenshot_path_, ImGuiInputTextFlags_EnterReturnsTrue);
+        record("screenshot_file");
+        const std::string path = in_folder(screenshot_path_).string();
+        ImGui::TextDisabled("writes %s", path.c_str());
         if (ImGui::Button("Save") || enter) {
-            request_screenshot(screenshot_path_);
+            remember_folder();
+            request_screenshot(path);
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();
@@ -311,9 +443,12 @@ void App::draw_dialogs() {
     ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (ImGui::BeginPopupModal("Export meshes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Writes the two meshes shown (world units, millimetres):");
+        bool enter = folder_field();
+        record("export_folder");
         ImGui::SetNextItemWidth(30.0f * fonts_.size);
         if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-        ImGui::InputText("Name", &export_base_);
+        enter |= ImGui::InputText("Name", &export_base_, ImGuiInputTextFlags_EnterReturnsTrue);
+        record("export_name");
         ImGui::SetNextItemWidth(8.0f * fonts_.size);
         ImGui::Combo("Format", &export_format_, kExportFormats, IM_ARRAYSIZE(kExportFormats));
         const std::string format = kExportFormats[export_format_];
@@ -332,17 +467,21 @@ void App::draw_dialogs() {
         } else if (format == "vtk") {
             ImGui::TextUnformatted("cell data: quality, min_angle, max_angle, distance");
         }
-        if (results_.mc) ImGui::BulletText("%s-mc.%s", export_base_.c_str(), format.c_str());
+        const std::string base = in_folder(export_base_).string();
+        const char* reduced = showing_equal_count() ? "-equal-count" : "";
+        if (results_.mc) ImGui::BulletText("%s-mc%s.%s", base.c_str(), reduced, format.c_str());
         if (results_.frame)
-            ImGui::BulletText("%s-%s-%d.%s", export_base_.c_str(),
+            ImGui::BulletText("%s-%s-%d%s.%s", base.c_str(),
                               std::string(name_of(results_.frame->method)).c_str(),
-                              results_.frame->iteration, format.c_str());
-        if (ImGui::Button("Export")) {
+                              results_.frame->iteration, reduced, format.c_str());
+        if (ImGui::Button("Export") || enter) {
             try {
+                remember_folder();
                 const auto written = export_meshes(
-                    export_base_, format, elements[std::size_t(export_abaqus_element_)].value);
-                notice("exported " + std::to_string(written.size()) +
-                       " meshes: " + (written.empty() ? std::string() : written.back()));
+                    base, format, elements[std::size_t(export_abaqus_element_)].value);
+                std::string list;
+                for (const std::string& file : written) list += (list.empty() ? "" : ", ") + file;
+                notice("exported " + std::to_string(written.size()) + " meshes: " + list);
             } catch (const std::exception& e) {
                 notice(std::string("export failed: ") + e.what(), true);
             }

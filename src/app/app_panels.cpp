@@ -3,6 +3,7 @@
 #include "app.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -188,6 +189,7 @@ void App::draw_side_panel() {
     if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen))
         draw_progress_section();
     ImGui::PopItemWidth();
+    side_panel_overflow_ = ImGui::GetScrollMaxY();
     ImGui::EndChild();
 }
 
@@ -479,22 +481,31 @@ void App::draw_iso_section() {
     const float width = ImGui::GetContentRegionAvail().x;
     if (results_.source) {
         const Histogram& h = results_.source->histogram;
-        if (const auto value = value_histogram_plot("##value histogram", h, p.iso,
-                                                    ImVec2(width, 3.6f * fonts_.size), fonts_)) {
+        const float step = iso_step();
+        if (const auto value = value_histogram_plot("##value histogram", h, p.iso, step,
+                                                    ImVec2(width, 3.0f * fonts_.size), fonts_)) {
             p.iso = *value;
             p.auto_iso = false;
         }
         record("value_histogram");
+        // A field, not a slider: a click does not jump, the buttons step by the data's step
+        // (whole values for integer volumes), a typed value applies on Enter.
+        const int decimals = std::clamp(int(-std::floor(std::log10(step))), 0, 6);
+        char format[16];
+        std::snprintf(format, sizeof format, "%%.%df", decimals);
         float iso = p.iso;
         ImGui::SetNextItemWidth(width - ImGui::CalcTextSize("Suggested").x - 3.0f * fonts_.size);
-        if (ImGui::SliderFloat("##iso", &iso, h.lo, h.hi, "iso %.4g")) {
+        if (ImGui::InputFloat("##iso", &iso, step, 10.0f * step, format,
+                              ImGuiInputTextFlags_EnterReturnsTrue) &&
+            std::isfinite(iso)) {
             p.iso = iso;
             p.auto_iso = false;
         }
-        record("iso_slider");
+        record("iso_field");
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("the grey value of the surface: Marching Cubes interpolates it, "
-                              "the segmentation thresholds at it (Ctrl+click to type)");
+                              "the segmentation thresholds at it. Type a value and press Enter, "
+                              "or step with - and +; a click on the histogram sets it too.");
         ImGui::SameLine();
         if (ImGui::Checkbox("Suggested", &p.auto_iso) && p.auto_iso) p.iso = results_.iso;
         if (ImGui::IsItemHovered())
@@ -615,11 +626,13 @@ void App::draw_progress_section() {
         std::snprintf(text, sizeof text, "done in %.0f ms", results_.finished->ms);
         state = text;
     }
-    ImGui::TextDisabled("%s", state.c_str());
+    // One line (wrapped only when narrow): the panel should fit 768 pixels without scrolling.
     if (results_.net)
-        ImGui::TextDisabled("net: %s nodes, %s quads",
-                            render::format_count(results_.net->nodes).c_str(),
-                            render::format_count(results_.net->quads).c_str());
+        state += "  \xC2\xB7  net: " + render::format_count(results_.net->nodes) + " nodes, " +
+                 render::format_count(results_.net->quads) + " quads";
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", state.c_str());
+    ImGui::PopStyleColor();
     ImGui::PopFont();
 }
 
@@ -688,10 +701,22 @@ void App::draw_quality_tab() {
     const float histogram_width = std::clamp(std::round(0.45f * (available.x - 3 * pad)),
                                              28.0f * fonts_.size, 38.0f * fonts_.size);
     const float inner_height = std::max(available.y - pad, 4.0f * fonts_.size);
+    // The histograms show the measure the views colour by (the worker summed each one).
+    const ShapeMeasure measure = color_by();
+    const DisplayMesh* shown[2] = {results_.mc.get(), results_.frame.get()};
+    std::array<MethodMetrics, 2> histogram_metrics;
+    std::vector<render::PanelMethod> histogram_methods = methods;
+    for (std::size_t i = 0, m = 0; i < 2; ++i) {
+        if (!shown[i]) continue;
+        histogram_metrics[i] = *methods[m].metrics;
+        histogram_metrics[i].quality.mean = shown[i]->summary(measure).mean;
+        histogram_metrics[i].quality.histogram = shown[i]->summary(measure).histogram;
+        histogram_methods[m++].metrics = &histogram_metrics[i];
+    }
     render::draw_quality_histograms(
         ImGui::GetWindowDrawList(), ImVec2(start.x + pad, start.y + pad),
-        ImVec2(start.x + pad + histogram_width, start.y + inner_height), methods, fonts_,
-        settings_.view.shading == "quality", settings_.view.quality_threshold);
+        ImVec2(start.x + pad + histogram_width, start.y + inner_height), histogram_methods, fonts_,
+        settings_.view.shading == "quality", settings_.view.quality_threshold, measure);
     const float table_x = start.x + 2.5f * pad + histogram_width;
     const float table_width = start.x + available.x - pad - table_x;
     // Two column groups (half the rows) when one group is too tall; the smaller face when the
@@ -699,17 +724,21 @@ void App::draw_quality_tab() {
     render::FigureFonts table_fonts = fonts_;
     const bool compact = table_width < 40.0f * fonts_.size;
     if (compact) table_fonts.size = fonts_.small->FontSize;
-    const int groups =
-        render::metrics_table_height(1, table_fonts.size) <= inner_height - pad ? 1 : 2;
+    // Two groups where one is too tall and the width holds two; else one that scrolls (and
+    // never narrower than its names and numbers: scrolled sideways on a small screen).
+    const float group_width = 19.0f * table_fonts.size;
+    const bool one_fits = render::metrics_table_height(1, table_fonts.size) <= inner_height - pad;
+    const int groups = one_fits || table_width < 2 * group_width ? 1 : 2;
+    const float inner_width = std::max(table_width - fonts_.size, group_width);
     ImGui::SetCursorScreenPos(ImVec2(table_x, start.y + pad));
-    ImGui::BeginChild("metrics", ImVec2(table_width, inner_height - pad), false);
+    ImGui::BeginChild("metrics", ImVec2(table_width, inner_height - pad), false,
+                      ImGuiWindowFlags_HorizontalScrollbar);
     if (compact) ImGui::PushFont(fonts_.small);
     // A frame not measured yet (a step, a moment ago) has its histogram but no table column.
     std::span<const render::PanelMethod> table_methods = methods;
     const bool measuring = net && !net->metrics_complete;
     if (measuring) table_methods = table_methods.first(methods.size() - 1);
-    render::metrics_table("metrics table", table_methods, groups, table_width - fonts_.size,
-                          table_fonts);
+    render::metrics_table("metrics table", table_methods, groups, inner_width, table_fonts);
     if (measuring)
         ImGui::TextDisabled("measuring %s, iteration %d...",
                             std::string(label_of(net->method)).c_str(), net->iteration);

@@ -5,7 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <imgui.h>
 
-#include "core/ray_pick.h"
+#include "core/triangle_pick.h"
 #include "slice_panel.h"
 
 namespace snert::app {
@@ -31,7 +31,7 @@ void App::pick_for_slice(const UiRect& view, bool net_view) {
     glm::vec4 a = inverse * glm::vec4(ndc, -1.0f, 1.0f), b = inverse * glm::vec4(ndc, 1.0f, 1.0f);
     a /= a.w;
     b /= b.w;
-    const std::optional<RayHit> hit =
+    const std::optional<TriangleHit> hit =
         first_hit(shown->mesh, glm::vec3(a), glm::vec3(b) - glm::vec3(a));
     if (!hit) return;
     const Volume& volume = *results_.source->volume;

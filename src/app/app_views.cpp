@@ -18,10 +18,11 @@ namespace {
 
 constexpr ImU32 kHint = IM_COL32(80, 86, 96, 255);
 
-// The title a view shows above it.
-std::string net_title(const DisplayMesh& frame, const JobResults& results) {
-    std::string title = std::string(label_of(frame.method)) + "  \xC2\xB7  iteration " +
-                        std::to_string(frame.iteration);
+// The title a view shows above it: the iteration the slider shows, even while its mesh is on
+// its way (the view then says "updating...").
+std::string net_title(const DisplayMesh& frame, int shown, const JobResults& results) {
+    std::string title =
+        std::string(label_of(frame.method)) + "  \xC2\xB7  iteration " + std::to_string(shown);
     if (results.iteration_count() > 0)
         title += " of " + std::to_string(results.iteration_count() - 1);
     return title;
@@ -107,14 +108,46 @@ void App::draw_toolbar() {
     ImGui::Checkbox("Wireframe", &view.wireframe);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the triangle edges  (W)");
     if (view.shading == "quality") {
+        // The measure the colours (and the histograms) show, and the red threshold.
+        ImGui::SameLine();
+        const ShapeMeasure measure = color_by();
+        const std::string symbol(label_of(measure));
+        ImGui::SetNextItemWidth(ImGui::CalcTextSize("radius ratio").x + ImGui::GetFrameHeight() +
+                                2 * ImGui::GetStyle().FramePadding.x);
+        if (ImGui::BeginCombo("##color by", symbol.c_str())) {
+            for (const Named<ShapeMeasure>& row : name_table(ShapeMeasure{})) {
+                const std::string item =
+                    std::string(row.label) + " = " + std::string(measure_definition(row.value));
+                if (ImGui::Selectable(item.c_str(), row.value == measure))
+                    view.color_by = std::string(row.name);
+            }
+            ImGui::EndCombo();
+        }
+        record("color_by");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("colour the triangles by %s = %s", symbol.c_str(),
+                              std::string(measure_definition(measure)).c_str());
         ImGui::SameLine();
         ImGui::SetNextItemWidth(8.5f * fonts_.size);
-        ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, "red: q < %.2f");
+        const std::string format = "red: " + symbol + " < %.2f";
+        ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, format.c_str());
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("triangles whose quality q (smallest / largest angle) is under this "
-                              "value are drawn red");
+            ImGui::SetTooltip("triangles whose %s is under this value are drawn red",
+                              symbol.c_str());
     }
-    ImGui::SameLine(0, 2.0f * fonts_.size);
+    // The camera group on a second row when the first has no room for it.
+    float camera_width = ImGui::CalcTextSize("Camera").x + ImGui::CalcTextSize("Reset").x +
+                         2 * ImGui::GetStyle().FramePadding.x;
+    for (const Named<render::ViewPreset>& row : name_table(render::ViewPreset{}))
+        camera_width += ImGui::CalcTextSize(std::string(row.label).c_str()).x +
+                        2 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
+    camera_width += 2 * ImGui::GetStyle().ItemSpacing.x;
+    const float right_edge = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    if (right_edge - ImGui::GetItemRectMax().x - 2.0f * fonts_.size > camera_width) {
+        ImGui::SameLine(0, 2.0f * fonts_.size);
+    } else {
+        ImGui::SetCursorPosX(ImGui::GetCursorPosX() + std::round(0.4f * fonts_.size));
+    }
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted("Camera");
     ImGui::SameLine();
@@ -155,11 +188,14 @@ void App::draw_views(float width, float height) {
     // 3D: drawn now into the views' targets (only when something changed), shown as images.
     const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
     view_aspect_ = view_width / view_height;
+    frame_camera_if_needed();
+    views_->set_measure(color_by());
     views_->render(int(std::lround(view_width * scale.x)), int(std::lround(view_height * scale.y)),
                    camera_, draw_style());
 
     const std::shared_ptr<const DisplayMesh> meshes[2] = {shown_mc(), shown_net()};
-    const bool current[2] = {results_.mc_current, results_.frame_current};
+    const bool current[2] = {results_.mc_current, results_.frame_current && meshes[1] &&
+                                                      meshes[1]->iteration == shown_iteration()};
     const bool busy = !results_.finished && results_.error.empty();
     for (int i = 0; i < 2; ++i) {
         const float x = origin.x + float(i) * (view_width + gap);
@@ -168,7 +204,8 @@ void App::draw_views(float width, float height) {
             view_max(x + view_width, origin.y + title_height + view_height);
         draw->AddRectFilled(title_min, title_max, IM_COL32(255, 255, 255, 255));
         if (meshes[i]) {
-            const std::string title = i == 0 ? "Marching Cubes" : net_title(*meshes[i], results_);
+            const std::string title =
+                i == 0 ? "Marching Cubes" : net_title(*meshes[i], shown_iteration(), results_);
             render::draw_view_title(draw, title_min, title_max,
                                     {meshes[i]->method, title, &meshes[i]->metrics}, fonts_);
         } else {
@@ -187,9 +224,28 @@ void App::draw_views(float width, float height) {
                                    ImGuiButtonFlags_MouseButtonRight |
                                    ImGuiButtonFlags_MouseButtonMiddle);
         record(i == 0 ? "view_mc" : "view_net");
-        handle_view_input(UiRect{view_min.x, view_min.y, view_max.x, view_max.y});
-        if (slice_view_)
-            pick_for_slice(UiRect{view_min.x, view_min.y, view_max.x, view_max.y}, i == 1);
+        view_rects_[std::size_t(i)] = UiRect{view_min.x, view_min.y, view_max.x, view_max.y};
+        handle_view_input(i, view_rects_[std::size_t(i)]);
+        if (slice_view_) pick_for_slice(view_rects_[std::size_t(i)], i == 1);
+        // The picked triangle, outlined where it is now.
+        if (picked_ && picked_->view == i && picked_->mesh == meshes[i]) {
+            const glm::mat4 to_clip = camera_.projection(view_width / view_height) * camera_.view();
+            ImVec2 corners[3];
+            bool in_front = true;
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec4 c = to_clip * glm::vec4(picked_->corners[std::size_t(k)], 1.0f);
+                in_front = in_front && c.w > 0;
+                corners[k] = ImVec2(view_min.x + (0.5f + 0.5f * c.x / c.w) * view_width,
+                                    view_min.y + (0.5f - 0.5f * c.y / c.w) * view_height);
+            }
+            if (in_front) {
+                draw->PushClipRect(view_min, view_max, true);
+                draw->AddPolyline(corners, 3, IM_COL32(255, 255, 255, 255), ImDrawFlags_Closed,
+                                  4.0f);
+                draw->AddPolyline(corners, 3, IM_COL32(214, 0, 120, 255), ImDrawFlags_Closed, 2.0f);
+                draw->PopClipRect();
+            }
+        }
 
         // Overlays: what is happening when there is nothing (yet) to see.
         if (!meshes[i]) {
@@ -198,7 +254,7 @@ void App::draw_views(float width, float height) {
                                                              : "relaxing the SurfaceNet...";
             centred_text(draw, fonts_.regular, view_min, view_max,
                          results_.error.empty() ? kHint : IM_COL32(190, 30, 30, 255), text);
-        } else if (!current[i] && busy) {
+        } else if (!current[i] && (busy || i == 1)) {
             tag(draw, fonts_.small, ImVec2(view_min.x + 0.5f * f, view_min.y + 0.4f * f), kHint,
                 "updating...");
         }
@@ -206,6 +262,24 @@ void App::draw_views(float width, float height) {
             tag(draw, fonts_.small, ImVec2(view_max.x - 8.5f * f, view_min.y + 0.4f * f), kHint,
                 "recomputed from a keyframe");
     }
+    // How to move the camera, for people who have not read the help: in the left view, as much
+    // of it as fits there.
+    if (!capturing_) {
+        static const char* const hints[] = {
+            "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom  \xC2\xB7  double-click: "
+            "reset",
+            "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom",
+            "drag: turn  \xC2\xB7  wheel: zoom"};
+        for (const char* hint : hints) {
+            const float w = fonts_.small->CalcTextSizeA(fonts_.small->FontSize, 1e9f, 0, hint).x;
+            if (w + 1.6f * f > view_width) continue;
+            tag(draw, fonts_.small,
+                ImVec2(origin.x + 0.6f * f, origin.y + title_height + view_height - 1.6f * f),
+                kHint, hint);
+            break;
+        }
+    }
+
     // The quality legend in the right view, as in the figures.
     if (settings_.view.shading == "quality") {
         const ImVec2 legend = render::quality_legend_size(fonts_.size);
@@ -213,17 +287,19 @@ void App::draw_views(float width, float height) {
         const float right = origin.x + 2 * view_width + gap - margin;
         const float bottom = origin.y + title_height + view_height - margin;
         const float legend_width = std::min(legend.x, view_width - 2 * margin);
-        if (legend_width > 6 * f && view_height > legend.y + 4 * f)
+        if (legend_width > 6 * f && view_height > legend.y + 4 * f) {
+            // On a white card, drawn last: readable over any part of the mesh.
+            const float pad = std::round(0.3f * f);
+            draw->AddRectFilled(ImVec2(right - legend_width - pad, bottom - legend.y - pad),
+                                ImVec2(right + pad, bottom + pad), IM_COL32(255, 255, 255, 235),
+                                pad);
+            draw->AddRect(ImVec2(right - legend_width - pad, bottom - legend.y - pad),
+                          ImVec2(right + pad, bottom + pad), IM_COL32(200, 204, 212, 255), pad);
             render::draw_quality_legend(draw, ImVec2(right - legend_width, bottom - legend.y),
                                         ImVec2(right, bottom), settings_.view.quality_threshold,
-                                        fonts_);
+                                        fonts_, color_by());
+        }
     }
-    // How to move the camera, for people who have not read the help.
-    tag(draw, fonts_.small,
-        ImVec2(origin.x + 0.6f * f, origin.y + title_height + view_height - 1.6f * f), kHint,
-        "drag: turn  \xC2\xB7  right-drag: pan  \xC2\xB7  wheel: zoom  \xC2\xB7  double-click: "
-        "reset");
-
     views_rect_ = UiRect{origin.x, origin.y, origin.x + 2 * view_width + gap,
                          origin.y + title_height + view_height};
     rects_["views"] = views_rect_;
@@ -231,8 +307,12 @@ void App::draw_views(float width, float height) {
     ImGui::Dummy(ImVec2(width, 0));
 }
 
-void App::handle_view_input(const UiRect& area) {
+void App::handle_view_input(int view, const UiRect& area) {
     const ImGuiIO& io = ImGui::GetIO();
+    // A click (the mouse hardly moved while down) picks a triangle; a drag turns the camera.
+    if (ImGui::IsItemDeactivated() && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
+        io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left] < 9.0f)
+        pick(view, io.MousePos.x, io.MousePos.y);
     if (ImGui::IsItemHovered()) {
         if (io.MouseWheel != 0) camera_.zoom(std::pow(1.12f, io.MouseWheel));
         if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) reset_camera();
@@ -280,10 +360,25 @@ void App::draw_iteration_bar() {
     int value = shown;
     const float run_width =
         ImGui::CalcTextSize("Run to convergence").x + 2 * ImGui::GetStyle().FramePadding.x;
-    const float status_width = 12.0f * fonts_.size;
-    ImGui::SetNextItemWidth(std::max(ImGui::GetContentRegionAvail().x - run_width - status_width -
-                                         2 * ImGui::GetStyle().ItemSpacing.x,
-                                     6.0f * fonts_.size));
+    std::string state;
+    if (!results_.error.empty())
+        state = "failed";
+    else if (!results_.finished)
+        state = results_.frame && results_.frame->last ? "measuring iterations..."
+                : has_net                              ? "relaxing..."
+                                                       : "computing...";
+    else if (results_.finished->converged)
+        state = "converged at " + std::to_string(results_.finished->iterations);
+    else
+        state = "stopped at max. iterations";
+    // The state only where the slider keeps room (the status line says it too).
+    const float state_width = std::max(ImGui::CalcTextSize(state.c_str()).x, 12.0f * fonts_.size) +
+                              ImGui::GetStyle().ItemSpacing.x;
+    const float slider_room = ImGui::GetContentRegionAvail().x - run_width -
+                              ImGui::GetStyle().ItemSpacing.x - std::round(0.4f * fonts_.size);
+    const bool show_state = slider_room - state_width >= 14.0f * fonts_.size;
+    ImGui::SetNextItemWidth(
+        std::max(slider_room - (show_state ? state_width : 0.0f), 6.0f * fonts_.size));
     if (ImGui::SliderInt("##iteration", &value, 0, last, format, ImGuiSliderFlags_AlwaysClamp)) {
         playing_ = false;
         show_iteration(value);
@@ -302,20 +397,11 @@ void App::draw_iteration_bar() {
         ImGui::SetTooltip("relax further until the largest move is under epsilon, then show "
                           "the last iteration  (C)");
     ImGui::EndDisabled();
-    ImGui::SameLine();
-    ImGui::AlignTextToFramePadding();
-    std::string state;
-    if (!results_.error.empty())
-        state = "failed";
-    else if (!results_.finished)
-        state = results_.frame && results_.frame->last ? "measuring iterations..."
-                : has_net                              ? "relaxing..."
-                                                       : "computing...";
-    else if (results_.finished->converged)
-        state = "converged at " + std::to_string(results_.finished->iterations);
-    else
-        state = "stopped at max. iterations";
-    ImGui::TextDisabled("%s", state.c_str());
+    if (show_state) {
+        ImGui::SameLine();
+        ImGui::AlignTextToFramePadding();
+        ImGui::TextDisabled("%s", state.c_str());
+    }
 }
 
 } // namespace snert::app

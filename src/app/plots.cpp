@@ -186,7 +186,8 @@ std::optional<int> convergence_plot(const char* id, const ConvergencePlot& plot,
 }
 
 std::optional<float> value_histogram_plot(const char* id, const Histogram& histogram, float iso,
-                                          ImVec2 size, const render::FigureFonts& fonts) {
+                                          float step, ImVec2 size,
+                                          const render::FigureFonts& fonts) {
     const Area area = place(id, size);
     ImDrawList* draw = ImGui::GetWindowDrawList();
     draw->AddRectFilled(area.min, area.max, kPlotBackground);
@@ -226,7 +227,10 @@ std::optional<float> value_histogram_plot(const char* id, const Histogram& histo
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     const float t =
         std::clamp((mouse.x - area.min.x) / std::max(area.max.x - area.min.x, 1.0f), 0.0f, 1.0f);
-    const float value = float(double(histogram.lo) + double(t) * range);
+    // Rounded to the data's step: a click means "about here", not 40.87.
+    const double raw = double(histogram.lo) + double(t) * range;
+    const float value =
+        step > 0 ? float(std::round(raw / double(step)) * double(step)) : float(raw);
     if (area.hovered) {
         ImGui::BeginTooltip();
         ImGui::Text("value %s", number(value).c_str());

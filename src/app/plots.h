@@ -54,8 +54,10 @@ void compactness_plot(const char* id, const CompactnessPlot& plot, ImVec2 size,
                       const render::FigureFonts& fonts);
 
 // The volume's value histogram (logarithmic counts) with a line at `iso`. Returns the value
-// under the mouse while the left button is pressed on it.
+// under the mouse, rounded to a multiple of `step` (none when 0), while the left button is
+// pressed on it.
 std::optional<float> value_histogram_plot(const char* id, const Histogram& histogram, float iso,
-                                          ImVec2 size, const render::FigureFonts& fonts);
+                                          float step, ImVec2 size,
+                                          const render::FigureFonts& fonts);
 
 } // namespace snert::app

@@ -238,6 +238,8 @@ const std::vector<Field>& fields() {
                  string_field("shading", SNERT_MEMBER(view.shading), {"flat", "smooth", "quality"}),
                  bool_field("wireframe", SNERT_MEMBER(view.wireframe)),
                  float_field("quality_threshold", SNERT_MEMBER(view.quality_threshold), 0, 1),
+                 string_field("color_by", SNERT_MEMBER(view.color_by),
+                              {"q", "q60", "radius-ratio"}),
                  string_field("view", SNERT_MEMBER(view.preset), {"front", "side", "top", "iso"}),
                  int_field("window_width", SNERT_MEMBER(layout.window_width), 320, 16384),
                  int_field("window_height", SNERT_MEMBER(layout.window_height), 240, 16384),
@@ -251,6 +253,7 @@ const std::vector<Field>& fields() {
                  int_field("bottom_tab", SNERT_MEMBER(layout.bottom_tab), 0, 1),
                  float_field("ui_scale", SNERT_MEMBER(layout.ui_scale), 0.5f, 3),
                  float_field("play_speed", SNERT_MEMBER(play_speed), 0.5f, 240),
+                 string_field("output_folder", SNERT_MEMBER(output_folder)),
                  int_field("history_budget_mb", SNERT_MEMBER(history_budget_mb), 0, 1 << 20),
              })
             t.push_back(std::move(f));
@@ -354,6 +357,15 @@ Settings parse_settings(const std::string& text) {
                 s.recent_files.push_back(*spec);
             continue;
         }
+        if (key == "recent_iso") { // "190 carotid.vtk | ...": the iso, then the input's line
+            const auto space = value.find(' ');
+            float iso = 0;
+            if (space != std::string::npos && parse_float(value.substr(0, space), iso)) {
+                const std::optional<SourceSpec> spec = parse_source_line(value.substr(space + 1));
+                if (spec) s.iso_by_input[format_source_line(*spec)] = iso;
+            }
+            continue;
+        }
         for (const Field& f : fields()) {
             if (key == f.key) {
                 f.set(s, value); // a bad value keeps the default
@@ -375,6 +387,13 @@ std::string format_settings(const Settings& settings) {
     }
     for (const SourceSpec& spec : settings.recent_files)
         out << "recent = " << format_source_line(spec) << "\n";
+    for (const SourceSpec& spec : settings.recent_files) {
+        const auto iso = settings.iso_by_input.find(format_source_line(spec));
+        if (iso == settings.iso_by_input.end()) continue;
+        char number[32];
+        std::snprintf(number, sizeof number, "%.9g", double(iso->second));
+        out << "recent_iso = " << number << " " << iso->first << "\n";
+    }
     return out.str();
 }
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +39,8 @@ struct ViewSettings {
     bool wireframe = false;
     float quality_threshold = 0.25f; // triangles under it are highlighted in quality shading
     std::string preset = "iso";      // "front", "side", "top", "iso"
+    std::string color_by = "q";      // the measure quality shading and the histograms show:
+                                     // "q", "q60", "radius-ratio" (core/names.h)
 };
 
 struct LayoutSettings {
@@ -57,8 +60,12 @@ struct Settings {
     LayoutSettings layout;
     std::vector<SourceSpec> recent_files; // inputs that loaded (files, not phantoms), newest
                                           // first, at most kMaxRecent
-    float play_speed = 10.0f;             // iterations per second while playing
-    int history_budget_mb = 256;          // memory for stored iterations
+    // The iso value last chosen by hand for an input (format_source_line's key), so reopening a
+    // recent file keeps its iso; kept for the recent inputs only.
+    std::map<std::string, float> iso_by_input;
+    std::string output_folder;   // where screenshots and exports were last written
+    float play_speed = 10.0f;    // iterations per second while playing
+    int history_budget_mb = 256; // memory for stored iterations
 
     static constexpr std::size_t kMaxRecent = 10;
     // Puts `spec` first in recent_files (removing an equal older entry), keeping kMaxRecent.

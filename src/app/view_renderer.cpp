@@ -11,8 +11,8 @@ namespace {
 
 bool same_camera(const render::OrbitCamera& a, const render::OrbitCamera& b) {
     return a.target == b.target && a.distance == b.distance && a.yaw == b.yaw &&
-           a.pitch == b.pitch && a.fov_y == b.fov_y && a.near_plane == b.near_plane &&
-           a.far_plane == b.far_plane;
+           a.pitch == b.pitch && a.roll == b.roll && a.fov_y == b.fov_y &&
+           a.near_plane == b.near_plane && a.far_plane == b.far_plane;
 }
 
 bool same_style(const render::DrawStyle& a, const render::DrawStyle& b) {
@@ -36,13 +36,28 @@ void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
     if (!same_geometry) {
         if (!mesh)
             views_[v] = render::MeshView();
-        else if (!slot ||
-                 !views_[v].update(mesh->mesh, slot->mesh.indices, mesh->quality, mesh->normals))
-            views_[v].upload(mesh->mesh, mesh->quality, mesh->normals);
+        else if (!slot || !views_[v].update(mesh->mesh, slot->mesh.indices, mesh->values(measure_),
+                                            mesh->normals))
+            views_[v].upload(mesh->mesh, mesh->values(measure_), mesh->normals);
         dirty_[v] = true;
     }
     slot = std::move(mesh);
     if (!same_geometry) upload_preview(v);
+}
+
+void ViewRenderer::set_measure(ShapeMeasure measure) {
+    if (measure == measure_) return;
+    measure_ = measure;
+    for (std::size_t v = 0; v < meshes_.size(); ++v) {
+        const auto& mesh = meshes_[v];
+        if (!mesh) continue;
+        // The same mesh: only the per-triangle values change (indices are compared, none sent).
+        if (!views_[v].update(mesh->mesh, mesh->mesh.indices, mesh->values(measure_),
+                              mesh->normals))
+            views_[v].upload(mesh->mesh, mesh->values(measure_), mesh->normals);
+        upload_preview(v);
+        dirty_[v] = true;
+    }
 }
 
 // The preview's triangles when they are new; their quality (the triangles they stand for) with
@@ -57,7 +72,8 @@ void ViewRenderer::upload_preview(std::size_t v) {
         return;
     }
     std::vector<float> quality(preview->source.size());
-    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = mesh->quality[preview->source[t]];
+    const std::span<const float> values = mesh->values(measure_);
+    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = values[preview->source[t]];
     if (previews_[v] == preview) {
         views_[v].set_preview_quality(quality);
     } else {

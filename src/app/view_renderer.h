@@ -35,6 +35,10 @@ class ViewRenderer {
     // What the camera frames: the bounds of Marching Cubes' mesh, else of the net's; nullopt
     // when there is none.
     std::optional<Bounds> bounds() const;
+    // The per-triangle measure the colours show (quality shading); a change sends the views'
+    // new values (computed by the worker, DisplayMesh) and redraws them.
+    void set_measure(ShapeMeasure measure);
+    ShapeMeasure measure() const { return measure_; }
 
     // Draws the views at width x height pixels each: a view whose mesh changed, or both when
     // the camera, the style or the size did; otherwise their last pictures stay. Leaves the
@@ -72,6 +76,7 @@ class ViewRenderer {
     render::OrbitCamera last_camera_;
     render::DrawStyle last_style_;
     int render_count_ = 0;
+    ShapeMeasure measure_ = ShapeMeasure::Quality;
 };
 
 } // namespace snert::app

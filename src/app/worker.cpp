@@ -36,9 +36,9 @@ std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, std::uint64
     auto display = std::make_shared<DisplayMesh>();
     display->method = result.method;
     display->iteration = iteration;
-    display->quality = triangle_quality(result.mesh);
-    display->normals = render::vertex_normals(result.mesh);
     display->mesh = std::move(result.mesh);
+    display->measure_triangles();
+    display->normals = render::vertex_normals(display->mesh);
     display->metrics = result.metrics;
     display->geometry = geometry;
     if (iteration < 0) // the net's frames share their job's preview
@@ -667,6 +667,28 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
     }
 }
 
+std::span<const float> DisplayMesh::values(ShapeMeasure measure) const {
+    switch (measure) {
+    case ShapeMeasure::Quality:
+        return quality;
+    case ShapeMeasure::Quality60:
+        return quality60;
+    case ShapeMeasure::RadiusRatio:
+        break;
+    }
+    return radius_ratio;
+}
+
+void DisplayMesh::measure_triangles() {
+    TriangleMeasures m = triangle_measures(mesh);
+    quality = std::move(m.quality);
+    quality60 = std::move(m.quality60);
+    radius_ratio = std::move(m.radius_ratio);
+    for (const ShapeMeasure s :
+         {ShapeMeasure::Quality, ShapeMeasure::Quality60, ShapeMeasure::RadiusRatio})
+        summaries[std::size_t(s)] = summarize_measure(values(s));
+}
+
 // A quick frame: the mesh, its triangles' quality and normals; measured later on request.
 std::shared_ptr<const DisplayMesh> Worker::make_frame(Job& job, int iteration,
                                                       std::span<const glm::vec3> positions) {
@@ -678,7 +700,7 @@ std::shared_ptr<const DisplayMesh> Worker::make_frame(Job& job, int iteration,
     frame->method = method_of(job.options.relax.mode);
     frame->iteration = iteration;
     frame->mesh = mesh_to_world(index_mesh, *c.volume);
-    frame->quality = triangle_quality(frame->mesh);
+    frame->measure_triangles();
     frame->normals = render::vertex_normals(frame->mesh);
     frame->metrics = quick_metrics(frame->mesh, frame->quality);
     frame->metrics_complete = false;

@@ -52,6 +52,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stop_token>
 #include <string>
 #include <thread>
@@ -92,7 +93,11 @@ struct DisplayMesh {
     Method method = Method::MarchingCubes;
     int iteration = -1; // relaxation iteration; -1 for Marching Cubes
     Mesh mesh;
-    std::vector<float> quality;     // smallest / largest angle per triangle
+    std::vector<float> quality;      // smallest / largest angle per triangle
+    std::vector<float> quality60;    // smallest angle / 60 degrees per triangle
+    std::vector<float> radius_ratio; // 2 r / R per triangle
+    // Mean and histogram of each measure (ShapeMeasure order), for the histogram panel.
+    std::array<MeasureSummary, 3> summaries{};
     std::vector<glm::vec3> normals; // area-weighted, per vertex
     MethodMetrics metrics;          // counts and quality only while !metrics_complete
     bool metrics_complete = true;   // false: a quick frame; the measured one follows
@@ -100,6 +105,13 @@ struct DisplayMesh {
     // Drawn while the camera moves (large meshes only); shared by the frames of one job.
     std::shared_ptr<const PreviewMesh> preview;
     std::uint64_t geometry = 0; // equal for two DisplayMeshes with the same mesh
+
+    std::span<const float> values(ShapeMeasure measure) const;
+    const MeasureSummary& summary(ShapeMeasure measure) const {
+        return summaries[std::size_t(measure)];
+    }
+    // Fills quality, quality60, radius_ratio and summaries from the mesh (the worker's job).
+    void measure_triangles();
 };
 
 struct VolumeMessage {

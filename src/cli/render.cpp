@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "compactness_report.h"
+#include "io/camera_file.h"
 #include "options.h"
 #include "progress_line.h"
 #include "render/context.h"
@@ -83,6 +84,11 @@ Runner add_render(CLI::App& app) {
         bool quiet = false;
         std::string zoom; // Z, or with --slice X,Y,W,H
         SliceArgs slice;
+        float azimuth = 0, elevation = 0, roll = 0, distance = 0;
+        std::vector<float> target;
+        std::string camera_file;
+        CLI::Option *o_azimuth = nullptr, *o_elevation = nullptr, *o_roll = nullptr,
+                    *o_distance = nullptr, *o_target = nullptr;
     };
     auto args = std::make_shared<Args>();
     CLI::App* command = app.add_subcommand(
@@ -123,6 +129,10 @@ Runner add_render(CLI::App& app) {
                     "facets, smooth surface, or colour by triangle quality (smallest / largest "
                     "angle)")
         ->group(group);
+    add_name_option(*command, "--color-by", f.color_by,
+                    "what quality shading and the histograms show: q (smallest / largest "
+                    "angle), q60 (smallest angle / 60 degrees) or radius-ratio (2 r / R)")
+        ->group(group);
     command
         ->add_option("--threshold", f.style.quality_threshold,
                      "quality shading: triangles with quality under Q in red")
@@ -131,6 +141,49 @@ Runner add_render(CLI::App& app) {
         ->capture_default_str()
         ->group(group);
     command->add_flag("--wireframe", f.style.wireframe, "draw the triangle edges over the surface")
+        ->group(group);
+    // A camera by hand (the app's View > Copy camera writes these); each one given replaces
+    // the framed camera's, after --view and --zoom.
+    args->o_azimuth = command
+                          ->add_option("--azimuth", args->azimuth,
+                                       "camera: degrees around +z (0 looks from -y, the front)")
+                          ->type_name("DEG")
+                          ->group(group);
+    args->o_elevation =
+        command->add_option("--elevation", args->elevation, "camera: degrees above the xy plane")
+            ->check(CLI::Range(-90.0, 90.0))
+            ->type_name("DEG")
+            ->group(group);
+    args->o_roll =
+        command->add_option("--roll", args->roll, "camera: degrees about the viewing direction")
+            ->type_name("DEG")
+            ->group(group);
+    args->o_target = command
+                         ->add_option("--target", args->target,
+                                      "camera: the point looked at (world millimetres)")
+                         ->delimiter(',')
+                         ->expected(3)
+                         ->type_name("X,Y,Z")
+                         ->group(group);
+    args->o_distance =
+        command
+            ->add_option("--distance", args->distance, "camera: eye to target (world millimetres)")
+            ->check(CLI::PositiveNumber)
+            ->type_name("D")
+            ->group(group);
+    command
+        ->add_option("--camera", args->camera_file,
+                     "camera from a JSON file {azimuth, elevation, roll, target: [x, y, z], "
+                     "distance}; the options above override it")
+        ->type_name("FILE.json")
+        ->group(group);
+    command
+        ->add_option("--font-scale", f.font_scale,
+                     "text size against the default for the image size (1.5: larger labels "
+                     "in a small image)")
+        ->check(CLI::Range(0.5, 4.0))
+        ->type_name("S")
+        ->capture_default_str()
         ->group(group);
     add_name_option(*command, "--layout", args->layout,
                     "the whole figure, the two views only, or a single view")
@@ -199,12 +252,26 @@ Runner add_render(CLI::App& app) {
                                                          "needs --slice)");
         }
         figure.layout = figure_layout(args->layout);
+        if (!args->camera_file.empty()) {
+            try {
+                figure.camera = read_camera_file(args->camera_file);
+            } catch (const std::runtime_error& e) {
+                throw CLI::ValidationError("--camera", e.what());
+            }
+        }
+        if (args->o_azimuth->count()) figure.camera.azimuth = args->azimuth;
+        if (args->o_elevation->count()) figure.camera.elevation = args->elevation;
+        if (args->o_roll->count()) figure.camera.roll = args->roll;
+        if (args->o_distance->count()) figure.camera.distance = args->distance;
+        if (args->o_target->count())
+            figure.camera.target = glm::vec3(args->target[0], args->target[1], args->target[2]);
         const bool captioned = !args->no_caption;
         const bool two_views =
             args->layout == RenderLayout::Comparison || args->layout == RenderLayout::Views;
         try {
             render::layout_figure(figure.width, figure.height, two_views ? 2 : 1, figure.layout,
-                                  figure.style.shading == render::Shading::Quality, captioned);
+                                  figure.style.shading == render::Shading::Quality, captioned,
+                                  figure.font_scale);
         } catch (const std::invalid_argument& e) {
             throw CLI::ValidationError("--width/--height", e.what());
         }

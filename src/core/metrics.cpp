@@ -251,6 +251,63 @@ std::vector<float> triangle_quality(const Mesh& mesh) {
     return quality;
 }
 
+std::string_view measure_definition(ShapeMeasure measure) {
+    switch (measure) {
+    case ShapeMeasure::Quality:
+        return "smallest angle / largest angle";
+    case ShapeMeasure::Quality60:
+        return "smallest angle / 60\xC2\xB0";
+    case ShapeMeasure::RadiusRatio:
+        break;
+    }
+    return "2 r / R (inradius / circumradius)";
+}
+
+std::span<const float> TriangleMeasures::of(ShapeMeasure measure) const {
+    switch (measure) {
+    case ShapeMeasure::Quality:
+        return quality;
+    case ShapeMeasure::Quality60:
+        return quality60;
+    case ShapeMeasure::RadiusRatio:
+        break;
+    }
+    return radius_ratio;
+}
+
+TriangleMeasures triangle_measures(const Mesh& mesh) {
+    check_mesh(mesh);
+    TriangleMeasures m;
+    const std::size_t n = mesh.triangle_count();
+    m.quality.resize(n);
+    m.quality60.resize(n);
+    m.radius_ratio.resize(n);
+    for_each_chunk(n, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t t = b; t < e; ++t) {
+            const std::uint32_t* i = &mesh.indices[3 * t];
+            const TriangleShape s =
+                triangle_shape(mesh.positions[i[0]], mesh.positions[i[1]], mesh.positions[i[2]]);
+            m.quality[t] = s.quality;
+            m.quality60[t] = s.quality60;
+            m.radius_ratio[t] = s.radius_ratio;
+        }
+    });
+    return m;
+}
+
+MeasureSummary summarize_measure(std::span<const float> values) {
+    MeasureSummary s;
+    if (values.empty()) return s;
+    double sum = 0; // in triangle order: the same sum on every machine
+    for (const float v : values) {
+        sum += double(v);
+        const int bin = std::clamp(int(v * float(kQualityBins)), 0, kQualityBins - 1);
+        ++s.histogram[std::size_t(bin)];
+    }
+    s.mean = sum / double(values.size());
+    return s;
+}
+
 QualityStats quality_stats(const Mesh& mesh) {
     check_mesh(mesh);
     const std::size_t triangles = mesh.triangle_count();

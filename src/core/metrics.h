@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -58,6 +59,25 @@ TriangleShape triangle_shape(glm::vec3 a, glm::vec3 b, glm::vec3 c);
 std::vector<float> triangle_quality(const Mesh& mesh);
 
 inline constexpr int kQualityBins = 20;
+
+// The triangle measures a view can colour by (names in core/names.h: q, q60, radius-ratio).
+enum class ShapeMeasure { Quality, Quality60, RadiusRatio };
+// What a measure is, for legends and axes: "smallest angle / largest angle", ...
+std::string_view measure_definition(ShapeMeasure measure);
+
+// All three measures per triangle in one pass, in triangle order (0 for degenerate).
+struct TriangleMeasures {
+    std::vector<float> quality, quality60, radius_ratio;
+    std::span<const float> of(ShapeMeasure measure) const;
+};
+TriangleMeasures triangle_measures(const Mesh& mesh);
+
+// Mean and histogram over [0, 1] (the bins of QualityStats::histogram) of per-triangle values.
+struct MeasureSummary {
+    double mean = 0;
+    std::array<std::size_t, kQualityBins> histogram{};
+};
+MeasureSummary summarize_measure(std::span<const float> values);
 
 // A sliver: a triangle with quality (smallest / largest angle) below this. Degenerate triangles
 // (quality 0) are slivers too.

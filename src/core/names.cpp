@@ -36,6 +36,12 @@ constexpr Named<TriangulationRule> kTriangulations[] = {
     {TriangulationRule::ShorterDiagonal, "shorter", "shorter diagonal"},
     {TriangulationRule::Delaunay, "delaunay", "Delaunay"},
 };
+// The labels are the symbols legends and axes use ("q60 < 0.25").
+constexpr Named<ShapeMeasure> kShapeMeasures[] = {
+    {ShapeMeasure::Quality, "q", "q"},
+    {ShapeMeasure::Quality60, "q60", "q60"},
+    {ShapeMeasure::RadiusRatio, "radius-ratio", "radius ratio"},
+};
 
 } // namespace
 
@@ -85,6 +91,9 @@ std::span<const Named<GradientMethod>> name_table(GradientMethod) {
 }
 std::span<const Named<TriangulationRule>> name_table(TriangulationRule) {
     return kTriangulations;
+}
+std::span<const Named<ShapeMeasure>> name_table(ShapeMeasure) {
+    return kShapeMeasures;
 }
 
 } // namespace snert

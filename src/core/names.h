@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "metrics.h"
 #include "relaxation.h"
 #include "segmentation.h"
 #include "triangulation.h"
@@ -36,6 +37,7 @@ std::span<const Named<Schedule>> name_table(Schedule);
 std::span<const Named<Constraint>> name_table(Constraint);
 std::span<const Named<GradientMethod>> name_table(GradientMethod);
 std::span<const Named<TriangulationRule>> name_table(TriangulationRule);
+std::span<const Named<ShapeMeasure>> name_table(ShapeMeasure);
 
 template <class E> std::string_view name_of(E value) {
     for (const Named<E>& row : name_table(E{}))

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -50,7 +52,11 @@ glm::vec3 OrbitCamera::back() const {
 }
 
 glm::vec3 OrbitCamera::right() const {
-    return {std::cos(yaw), std::sin(yaw), 0.0f};
+    const glm::vec3 level(std::cos(yaw), std::sin(yaw), 0.0f);
+    if (roll == 0.0f) return level;
+    // Turned by roll about the viewing direction, within the image plane.
+    const glm::vec3 level_up = glm::cross(back(), level);
+    return std::cos(roll) * level + std::sin(roll) * level_up;
 }
 
 glm::vec3 OrbitCamera::up() const {
@@ -156,6 +162,63 @@ void refit(OrbitCamera& camera, std::span<const glm::vec3> points, float aspect,
     camera.distance = std::max(distance, 1.1f * radius); // the eye stays outside the points
     camera.near_plane = std::max(camera.distance - 1.05f * radius, camera.distance * 0.01f);
     camera.far_plane = camera.distance + 1.05f * radius;
+}
+
+void apply_camera_spec(OrbitCamera& camera, const CameraSpec& spec,
+                       std::span<const glm::vec3> points) {
+    if (!spec.any()) return;
+    if (spec.azimuth) camera.yaw = glm::radians(*spec.azimuth);
+    if (spec.elevation)
+        camera.pitch = std::clamp(glm::radians(*spec.elevation), -glm::half_pi<float>(),
+                                  glm::half_pi<float>());
+    if (spec.roll) camera.roll = glm::radians(*spec.roll);
+    if (spec.target) camera.target = *spec.target;
+    if (spec.distance && *spec.distance > 0.0f) camera.distance = *spec.distance;
+    fit_planes(camera, points);
+}
+
+CameraSpec camera_spec_of(const OrbitCamera& camera) {
+    CameraSpec spec;
+    spec.azimuth = glm::degrees(camera.yaw);
+    spec.elevation = glm::degrees(camera.pitch);
+    spec.roll = glm::degrees(camera.roll);
+    spec.target = camera.target;
+    spec.distance = camera.distance;
+    return spec;
+}
+
+std::string camera_arguments(const CameraSpec& spec) {
+    std::string out;
+    char number[48];
+    auto add = [&](const char* flag, const std::optional<float>& value) {
+        if (!value) return;
+        std::snprintf(number, sizeof number, "%.6g", double(*value));
+        out += std::string(out.empty() ? "" : " ") + flag + " " + number;
+    };
+    add("--azimuth", spec.azimuth);
+    add("--elevation", spec.elevation);
+    add("--roll", spec.roll);
+    if (spec.target) {
+        std::snprintf(number, sizeof number, "%.6g,%.6g,%.6g", double(spec.target->x),
+                      double(spec.target->y), double(spec.target->z));
+        out += std::string(out.empty() ? "" : " ") + "--target " + number;
+    }
+    add("--distance", spec.distance);
+    return out;
+}
+
+void fit_planes(OrbitCamera& camera, std::span<const glm::vec3> points) {
+    const glm::vec3 eye = camera.eye(), b = camera.back();
+    float nearest = std::numeric_limits<float>::max(), farthest = 0.0f;
+    for (const glm::vec3& p : points) {
+        const float depth = glm::dot(eye - p, b);
+        nearest = std::min(nearest, depth);
+        farthest = std::max(farthest, depth);
+    }
+    if (points.empty() || !(farthest > 0.0f)) farthest = 2.0f * camera.distance;
+    const float slack = 0.05f * std::max(farthest - std::max(nearest, 0.0f), camera.distance);
+    camera.far_plane = farthest + slack;
+    camera.near_plane = std::max(nearest - slack, camera.far_plane * 1e-4f);
 }
 
 OrbitCamera frame_points(std::span<const glm::vec3> points, ViewPreset preset, float aspect,

@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/camera_spec.h"
 #include "core/mesh.h"
 #include "core/names.h"
 
@@ -31,13 +32,14 @@ struct OrbitCamera {
     float distance = 1.0f;             // eye to target (world units), > 0
     float yaw = 0.0f;                  // radians around +z; 0 looks from -y
     float pitch = 0.0f;                // radians, in [-pi/2, pi/2]
+    float roll = 0.0f;                 // radians about the viewing direction (0: z stays up)
     float fov_y = glm::radians(30.0f); // vertical field of view; small to limit distortion
     float near_plane = 0.01f;          // world units, set by frame()
     float far_plane = 100.0f;
 
     // Unit vector from the target to the eye.
     glm::vec3 back() const;
-    // Unit right and up vectors of the image plane (right depends on yaw only).
+    // Unit right and up vectors of the image plane (without roll, right depends on yaw only).
     glm::vec3 right() const;
     glm::vec3 up() const;
     glm::vec3 eye() const { return target + distance * back(); }
@@ -62,6 +64,19 @@ OrbitCamera frame_points(std::span<const glm::vec3> points, ViewPreset preset, f
 // The same for the eight corners of a box.
 OrbitCamera frame_bounds(const Bounds& bounds, ViewPreset preset, float aspect,
                          float margin = 0.06f);
+
+// The camera with every field `spec` sets replaced (degrees to radians); the planes are
+// re-fitted to `points` when anything changed.
+void apply_camera_spec(OrbitCamera& camera, const CameraSpec& spec,
+                       std::span<const glm::vec3> points);
+// Every field of `camera` as a spec, and as `snert render` arguments: "--azimuth 45
+// --elevation 35.26 --roll 0 --target 31.5,31.5,31.5 --distance 160.2".
+CameraSpec camera_spec_of(const OrbitCamera& camera);
+std::string camera_arguments(const CameraSpec& spec);
+
+// Sets the near and far planes to enclose `points` seen from where the camera is (a camera
+// given by hand: azimuth, elevation, target and distance).
+void fit_planes(OrbitCamera& camera, std::span<const glm::vec3> points);
 
 // Keeps the camera's direction and field of view; re-fits target, distance and planes.
 void refit(OrbitCamera& camera, std::span<const glm::vec3> points, float aspect,

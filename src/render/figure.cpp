@@ -37,7 +37,7 @@ std::span<const Named<FigureLayout>> name_table(FigureLayout) {
 }
 
 FigureRects layout_figure(int width, int height, int view_count, FigureLayout layout,
-                          bool with_legend, bool with_caption) {
+                          bool with_legend, bool with_caption, float font_scale) {
     if (view_count < 1) throw std::invalid_argument("a figure needs at least one view");
     const bool panels = layout == FigureLayout::Comparison;
     const int min_width = panels ? 160 : 64, min_height = panels ? 120 : 48;
@@ -47,7 +47,8 @@ FigureRects layout_figure(int width, int height, int view_count, FigureLayout la
                                     "at least " + std::to_string(min_width) + "x" +
                                     std::to_string(min_height) + ")");
     FigureRects r;
-    const float f = figure_font_size(width, height);
+    const float f =
+        std::clamp(std::round(figure_font_size(width, height) * font_scale), 6.0f, 60.0f);
     r.font_px = f;
     const float w = float(width), h = float(height);
     const float margin = std::round(0.7f * f);
@@ -109,7 +110,8 @@ std::vector<glm::vec3> all_vertices(std::span<const FigureMethod> methods) {
 }
 
 void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
-                  const FigureOptions& options, const FigureFonts& fonts) {
+                  std::span<const PanelMethod> histogram_panels, const FigureOptions& options,
+                  const FigureFonts& fonts) {
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
     ImGui::SetNextWindowSize(io.DisplaySize, ImGuiCond_Always);
@@ -127,10 +129,11 @@ void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
     const bool quality = options.style.shading == Shading::Quality;
     if (rects.legend.width > 0.0f)
         draw_quality_legend(draw, min_of(rects.legend), max_of(rects.legend),
-                            options.style.quality_threshold, fonts);
+                            options.style.quality_threshold, fonts, options.color_by);
     if (options.layout == FigureLayout::Comparison) {
-        draw_quality_histograms(draw, min_of(rects.histogram), max_of(rects.histogram), panels,
-                                fonts, quality, options.style.quality_threshold);
+        draw_quality_histograms(draw, min_of(rects.histogram), max_of(rects.histogram),
+                                histogram_panels, fonts, quality, options.style.quality_threshold,
+                                options.color_by);
         // Two column groups are narrower: their text in the small face, as the app does.
         FigureFonts table_fonts = fonts;
         const bool compact = rects.table_groups > 1;
@@ -161,8 +164,9 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
         if (m.mesh == nullptr) throw std::invalid_argument("render_figure: method without mesh");
     if (!(options.zoom > 0.0f)) throw std::invalid_argument("zoom must be positive");
     const bool legend = options.style.shading == Shading::Quality;
-    const FigureRects rects = layout_figure(options.width, options.height, int(methods.size()),
-                                            options.layout, legend, !options.caption.empty());
+    const FigureRects rects =
+        layout_figure(options.width, options.height, int(methods.size()), options.layout, legend,
+                      !options.caption.empty(), options.font_scale);
 
     RenderTarget target(options.width, options.height, options.samples);
     target.bind();
@@ -171,25 +175,41 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
 
     MeshRenderer renderer;
     std::vector<MeshView> views(methods.size());
-    for (std::size_t i = 0; i < methods.size(); ++i) views[i].upload(*methods[i].mesh);
+    // The histograms show the measure the colours do: its mean and bins in a copy of the metrics.
+    std::vector<MethodMetrics> histogram_metrics(methods.size());
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+        const TriangleMeasures measures = triangle_measures(*methods[i].mesh);
+        views[i].upload(*methods[i].mesh, measures.of(options.color_by));
+        if (!methods[i].metrics) continue;
+        const MeasureSummary summary = summarize_measure(measures.of(options.color_by));
+        histogram_metrics[i] = *methods[i].metrics;
+        histogram_metrics[i].quality.mean = summary.mean;
+        histogram_metrics[i].quality.histogram = summary.histogram;
+    }
 
     // One camera for all views, framing every mesh, so the same region of each is compared.
     OrbitCamera camera =
         frame_points(all_vertices(methods), options.view,
                      rects.views.front().width / rects.views.front().height, kFigureMargin);
     camera.zoom(options.zoom);
+    apply_camera_spec(camera, options.camera, all_vertices(methods));
     for (std::size_t i = 0; i < methods.size(); ++i) {
         const Viewport viewport = to_viewport(rects.views[i], options.height);
         renderer.draw_background(viewport, options.style);
         renderer.draw(views[i], camera, viewport, options.style);
     }
 
-    std::vector<PanelMethod> panels;
-    for (const FigureMethod& m : methods) panels.push_back({m.method, m.title, m.metrics});
+    std::vector<PanelMethod> panels, histogram_panels;
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+        const FigureMethod& m = methods[i];
+        panels.push_back({m.method, m.title, m.metrics});
+        histogram_panels.push_back(
+            {m.method, m.title, m.metrics ? &histogram_metrics[i] : nullptr});
+    }
     ImGuiOffscreen gui(rects.font_px);
     target.bind();
     gui.draw(options.width, options.height,
-             [&] { draw_overlay(rects, panels, options, gui.fonts()); });
+             [&] { draw_overlay(rects, panels, histogram_panels, options, gui.fonts()); });
     return target.read();
 }
 

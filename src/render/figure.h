@@ -69,8 +69,9 @@ float figure_font_size(int width, int height);
 // Splits a width x height image for `view_count` views (>= 1), with a band for the quality
 // legend and a caption line when asked. Throws std::invalid_argument when the image is too
 // small to hold the layout (below 160 x 120 for Comparison, 64 x 48 otherwise).
+// `font_scale` multiplies the text size (legible labels in a small image), up to 60 pixels.
 FigureRects layout_figure(int width, int height, int view_count, FigureLayout layout,
-                          bool with_legend, bool with_caption);
+                          bool with_legend, bool with_caption, float font_scale = 1.0f);
 
 // One mesh of the figure.
 struct FigureMethod {
@@ -85,8 +86,12 @@ struct FigureOptions {
     int height = 900;
     FigureLayout layout = FigureLayout::Comparison;
     ViewPreset view = ViewPreset::Iso;
-    float zoom = 1.0f; // > 1 moves the shared camera closer (close-ups)
+    float zoom = 1.0f;       // > 1 moves the shared camera closer (close-ups)
+    CameraSpec camera;       // fields set replace the framed camera's (after the zoom)
+    float font_scale = 1.0f; // text size against the default for the image size
     DrawStyle style;
+    // What quality shading colours and the histograms show (the table keeps every measure).
+    ShapeMeasure color_by = ShapeMeasure::Quality;
     std::string caption; // a line of small text under the figure; empty: none
     int samples = 4;     // MSAA samples
 };

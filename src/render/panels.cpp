@@ -126,10 +126,12 @@ ImVec2 quality_legend_size(float font_px) {
 }
 
 void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float threshold,
-                         const FigureFonts& fonts) {
+                         const FigureFonts& fonts, ShapeMeasure measure) {
     const float f = fonts.size;
-    const std::string caption = "triangle quality q";
-    const std::string poor = format("q < %.2f", threshold);
+    const std::string symbol(label_of(measure));
+    const std::string caption =
+        measure == ShapeMeasure::Quality ? "triangle quality q" : "triangle " + symbol;
+    const std::string poor = symbol + format(" < %.2f", threshold);
     const ImVec2 caption_size = text_size(fonts.regular, caption);
     const ImVec2 poor_size = text_size(fonts.regular, poor);
     const float swatch = std::round(0.8f * f);
@@ -173,7 +175,7 @@ void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float thresho
 
 void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
                              std::span<const PanelMethod> methods, const FigureFonts& fonts,
-                             bool colormap_axis, float threshold) {
+                             bool colormap_axis, float threshold, ShapeMeasure measure) {
     const float f = fonts.size;
     // Shares per bin, and the top of the y axis.
     std::vector<std::vector<double>> shares;
@@ -284,7 +286,9 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
         const ImVec2 size = text_size(fonts.small, label);
         text(draw, fonts.small, ImVec2(x - 0.5f * size.x, below + 0.35f * f), kMutedText, label);
     }
-    const std::string caption = "quality q = smallest angle / largest angle";
+    const std::string caption =
+        (measure == ShapeMeasure::Quality ? "quality q" : std::string(label_of(measure))) + " = " +
+        std::string(measure_definition(measure));
     const ImVec2 size = text_size(fonts.regular, caption);
     text(draw, fonts.regular, ImVec2(0.5f * (plot_left + plot_right - size.x), max.y - size.y),
          kText, caption);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 
 #include "app/headless.h"
 #include "app/view_renderer.h"
+#include "core/triangle_pick.h"
 #include "support/read_mesh.h"
 #include "support/real_data.h"
 #include "support/temp_folder.h"
@@ -210,8 +212,8 @@ TEST(AppUi, ChangingAParameterRestartsTheComputation) {
     EXPECT_EQ(app.results().frame->method, Method::Sna);
     EXPECT_EQ(app.results().mc, mc); // Marching Cubes did not depend on the mode
 
-    // Dragging the iso slider: many changes, one per frame; the last one wins.
-    const UiRect iso = *app.widget_rect("iso_slider");
+    // Dragging along the value histogram: many changes, one per frame; the last one wins.
+    const UiRect iso = *app.widget_rect("value_histogram");
     h->drag(iso.centre_x(), iso.centre_y(), iso.centre_x() + 0.3f * iso.width(), iso.centre_y(), 6);
     EXPECT_FALSE(app.settings().parameters.auto_iso);
     const float chosen = app.settings().parameters.iso;
@@ -789,4 +791,270 @@ TEST(AppViews, PreviewWhileTheCameraMovesThenTheWholeMesh) {
     views.render(160, 120, camera, style);
     EXPECT_EQ(views.preview_draws(0), 2);
     h->frame(); // the app's own target is bound again for its frame
+}
+
+// A new volume is framed once its own mesh arrives, at the views' size: not on the old mesh,
+// which stays on screen until then.
+TEST(AppViews, OpeningAnotherVolumeFramesIt) {
+    auto h = make_app(2, "phantom:sphere", 32);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    const test::TempFolder temp("snert-app-frame");
+    // Large enough that its mesh comes frames after the volume.
+    const std::string path = write_nrrd(temp, "ball.nrrd", glm::ivec3(110, 96, 80));
+    h->app().open_path(path);
+    SourceSpec spec;
+    spec.input = path;
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, spec); }));
+    h->frame();
+    const Bounds bounds = mesh_bounds(app.results().mc->mesh);
+    const UiRect view = *app.widget_rect("view_mc");
+    const render::OrbitCamera expected =
+        render::frame_bounds(bounds, render::ViewPreset::Iso, view.width() / view.height());
+    EXPECT_NEAR(glm::distance(app.camera().target, expected.target), 0.0f, 1e-4f);
+    EXPECT_NEAR(app.camera().distance, expected.distance, 1e-4f * expected.distance);
+}
+
+// The screenshot is of the frame after the dialog closed: no dialog and no hint in it, the
+// same picture as one asked for without the dialog. Enter in the file field saves; the folder
+// is the one used last, and the status line names the whole path.
+TEST(AppUi, ScreenshotDialogSavesTheViewsOnly) {
+    auto h = make_app(2);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    const test::TempFolder temp("snert-app-shot");
+    app.settings().output_folder = temp.path().string();
+    app.request_screenshot(temp.file("direct.png"));
+    h->frame();
+    const render::Image direct = render::read_png(temp.file("direct.png"));
+
+    app.perform(Action::Screenshot);
+    h->frame();
+    h->frame();
+    ASSERT_TRUE(app.widget_rect("screenshot_folder"));
+    h->tap(key::Enter);
+    h->frame();
+    const std::string written = temp.file("snert-sphere-32-2.png");
+    ASSERT_TRUE(fs::exists(written));
+    const render::Image shot = render::read_png(written);
+    ASSERT_EQ(shot.width, direct.width);
+    ASSERT_EQ(shot.height, direct.height);
+    EXPECT_EQ(shot.rgba, direct.rgba);
+    EXPECT_NE(app.notices().back().text.find(written), std::string::npos);
+    // The window itself shows the hint where the screenshot does not.
+    const render::Image window = h->capture();
+    const UiRect views = *app.widget_rect("views");
+    std::size_t differ = 0;
+    for (int y = 0; y < shot.height; ++y)
+        for (int x = 0; x < shot.width; ++x)
+            differ += std::memcmp(shot.pixel(x, y),
+                                  window.pixel(x + int(std::lround(views.x0)),
+                                               y + int(std::lround(views.y0))),
+                                  4) != 0;
+    EXPECT_GT(differ, 200u);
+    EXPECT_LT(differ, std::size_t(shot.width) * std::size_t(shot.height) / 20);
+}
+
+// Enter exports; Marching Cubes' file carries no iteration number, the net's does.
+TEST(AppUi, ExportDialogConfirmsWithEnter) {
+    auto h = make_app(3);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    const test::TempFolder temp("snert-app-export");
+    app.settings().output_folder = temp.path().string();
+    app.perform(Action::ExportMeshes);
+    h->frame();
+    h->frame();
+    h->tap(key::Enter);
+    EXPECT_TRUE(fs::exists(temp.file("snert-sphere-32-mc.stl")));
+    EXPECT_TRUE(fs::exists(temp.file("snert-sphere-32-snert-3.stl")));
+    EXPECT_NE(app.notices().back().text.find(temp.file("snert-sphere-32-mc.stl")),
+              std::string::npos);
+}
+
+// The iso field steps by whole values on an integer volume, a histogram click rounds to them,
+// and the iso chosen for a file comes back when it is opened again from the recent list.
+TEST(AppInput, IsoStepsSuitTheDataAndAreRememberedPerFile) {
+    auto h = make_app(1);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    EXPECT_LT(app.iso_step(), 1.0f); // the phantom's values are fractions
+    const test::TempFolder temp("snert-app-iso");
+    const std::string path = write_nrrd(temp, "ball.nrrd", glm::ivec3(16));
+    app.open_path(path);
+    SourceSpec spec;
+    spec.input = path;
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, spec); }));
+    EXPECT_EQ(app.iso_step(), 1.0f);
+
+    const UiRect histogram = *app.widget_rect("value_histogram");
+    h->click(histogram.x0 + 0.437f * histogram.width(), histogram.centre_y());
+    const float clicked = app.settings().parameters.iso;
+    EXPECT_FALSE(app.settings().parameters.auto_iso);
+    EXPECT_EQ(clicked, std::round(clicked));
+    EXPECT_GT(clicked, 10.0f);
+    EXPECT_LT(clicked, 200.0f);
+
+    // The field's + button: one step.
+    const UiRect field = *app.widget_rect("iso_field");
+    const float button = field.height();
+    h->click(field.x1 - 0.5f * button, field.centre_y());
+    EXPECT_EQ(app.settings().parameters.iso, clicked + 1.0f);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, spec); }));
+
+    app.open({"phantom:sphere", 32});
+    ASSERT_TRUE(h->run_until([](const App& a) { return settled_on(a, {"phantom:sphere", 32}); }));
+    EXPECT_TRUE(app.settings().parameters.auto_iso);
+    app.open(app.settings().recent_files.front());
+    EXPECT_FALSE(app.settings().parameters.auto_iso);
+    EXPECT_EQ(app.settings().parameters.iso, clicked + 1.0f);
+    ASSERT_TRUE(h->run_until([&](const App& a) { return settled_on(a, spec); }));
+    EXPECT_EQ(app.results().iso, clicked + 1.0f);
+}
+
+TEST(AppUi, EscapeClosesTheHelp) {
+    auto h = make_app(1);
+    h->tap(key::F1);
+    EXPECT_TRUE(h->app().help_open());
+    h->tap(key::Escape);
+    EXPECT_FALSE(h->app().help_open());
+}
+
+// From 1024 x 640 up, the views keep a useful height, the iteration bar fits the window and
+// (at 1366 x 768, a common laptop) the side panel needs no scroll bar.
+TEST(AppViews, LayoutFitsSmallScreens) {
+    for (const auto& [width, height] : {std::pair{1024, 640}, std::pair{1366, 768}}) {
+        HeadlessOptions options;
+        options.width = width;
+        options.height = height;
+        options.gl_backend = "osmesa";
+        options.app.source = SourceSpec{"phantom:two-spheres", 48};
+        HeadlessApp h(options);
+        h.app().settings().parameters.relax.max_iterations = 3;
+        ASSERT_TRUE(h.run_until(settled));
+        h.frame();
+        const App& app = h.app();
+        const UiRect view = *app.widget_rect("view_net");
+        EXPECT_GT(view.height(), 0.25f * float(height)) << width;
+        EXPECT_GT(view.width(), 0.3f * float(width)) << width;
+        const UiRect run = *app.widget_rect("run_to_convergence");
+        EXPECT_LE(run.x1, float(width)) << width;
+        EXPECT_GT(app.widget_rect("iteration_slider")->width(), 0.15f * float(width)) << width;
+        if (width >= 1366) {
+            EXPECT_EQ(app.side_panel_overflow(), 0.0f);
+        }
+    }
+}
+
+// Colour by q60: picked in the toolbar's combo, the views get the worker's per-triangle values
+// (no new mesh, one redraw) and the histograms its summary, which agrees with the core's.
+TEST(AppViews, ColourByAnotherMeasure) {
+    auto h = make_app(2);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    h->tap(key::Q); // quality shading shows the combo
+    EXPECT_EQ(app.view_renderer().measure(), ShapeMeasure::Quality);
+    const int uploads = app.view_renderer().uploads(0).uploads;
+    const int draws = app.view_renderer().view_draws(0);
+    click_widget(*h, "color_by");
+    const UiRect combo = *app.widget_rect("color_by");
+    // The list opens under the combo: q, q60, radius ratio, one line each.
+    h->click(combo.x0 + 10, combo.y1 + 1.5f * combo.height() + 4);
+    h->frame();
+    EXPECT_EQ(app.settings().view.color_by, "q60");
+    EXPECT_EQ(app.color_by(), ShapeMeasure::Quality60);
+    EXPECT_EQ(app.view_renderer().measure(), ShapeMeasure::Quality60);
+    EXPECT_EQ(app.view_renderer().uploads(0).uploads, uploads);
+    EXPECT_GT(app.view_renderer().view_draws(0), draws);
+    const QualityStats core = quality_stats(app.results().mc->mesh);
+    EXPECT_NEAR(app.results().mc->summary(ShapeMeasure::Quality60).mean, core.quality60_mean, 1e-6);
+    EXPECT_NEAR(app.results().frame->summary(ShapeMeasure::RadiusRatio).mean,
+                quality_stats(app.results().frame->mesh).radius_ratio_mean, 1e-6);
+}
+
+// A click in a view picks the triangle under the mouse; the panel's numbers are the core's for
+// that triangle. Marching Cubes' corners lie on the iso-surface; the net's triangle follows the
+// iteration shown.
+TEST(AppViews, ClickPicksATriangle) {
+    auto h = make_app(4);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    const UiRect mc = *app.widget_rect("view_mc");
+    h->click(mc.centre_x(), mc.centre_y());
+    ASSERT_TRUE(app.picked());
+    PickedTriangle p = *app.picked();
+    EXPECT_EQ(p.view, 0);
+    EXPECT_EQ(p.mesh, app.results().mc);
+    const Mesh& m = app.results().mc->mesh;
+    ASSERT_LT(p.triangle, m.triangle_count());
+    glm::vec3 c[3];
+    for (int k = 0; k < 3; ++k) c[k] = m.positions[m.indices[3 * p.triangle + std::size_t(k)]];
+    const TriangleShape shape = triangle_shape(c[0], c[1], c[2]);
+    EXPECT_EQ(p.shape.quality, shape.quality);
+    EXPECT_EQ(p.shape.quality60, shape.quality60);
+    EXPECT_EQ(p.shape.radius_ratio, shape.radius_ratio);
+    EXPECT_EQ(p.shape.quality, app.results().mc->quality[p.triangle]);
+    EXPECT_NEAR(p.angles[0] + p.angles[1] + p.angles[2], 180.0f, 1e-3f);
+    EXPECT_NEAR(std::min({p.angles[0], p.angles[1], p.angles[2]}), shape.min_angle, 1e-3f);
+    // The ray through the view's centre: the sphere's nearest point to the eye is in front.
+    EXPECT_GT(glm::dot(glm::normalize(c[0] - app.camera().target),
+                       glm::normalize(app.camera().eye() - app.camera().target)),
+              0.9f);
+    for (float d : p.iso_distance) EXPECT_LT(d, 0.05f); // on the phantom's exact sphere
+    ASSERT_TRUE(app.widget_rect("pick_panel"));
+
+    // The net: picked at iteration 4, then step back: the same triangle of iteration 3.
+    const UiRect net = *app.widget_rect("view_net");
+    h->click(net.centre_x(), net.centre_y());
+    ASSERT_TRUE(app.picked());
+    EXPECT_EQ(app.picked()->view, 1);
+    const std::size_t triangle = app.picked()->triangle;
+    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->quality[triangle]);
+    app.step(-1);
+    ASSERT_TRUE(h->run_until(settled));
+    h->frame();
+    ASSERT_TRUE(app.picked());
+    EXPECT_EQ(app.picked()->mesh->iteration, 3);
+    EXPECT_EQ(app.picked()->triangle, triangle);
+    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->quality[triangle]);
+
+    // A click beside the mesh picks nothing; a drag turns the camera and picks nothing new.
+    h->click(net.x0 + 3, net.y0 + 3);
+    EXPECT_FALSE(app.picked());
+    h->drag(net.centre_x(), net.centre_y(), net.centre_x() + 40, net.centre_y());
+    EXPECT_FALSE(app.picked());
+}
+
+// The explain window follows the mode chosen, and Escape closes it.
+TEST(AppUi, ExplainWindowOpensAndCloses) {
+    auto h = make_app(1);
+    h->app().set_explain_open(true);
+    h->frame();
+    h->frame();
+    EXPECT_TRUE(h->app().widget_rect("explain_window"));
+    h->tap(key::Escape);
+    EXPECT_FALSE(h->app().explain_open());
+}
+
+// View > Copy camera: a snert render command line with the views' camera, which applied to a
+// freshly framed camera gives the views' camera back.
+TEST(AppViews, CameraCopiesAsACommandLine) {
+    auto h = make_app(1);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    app.turn_camera(0.4f, -0.2f);
+    h->frame();
+    const std::string command = app.camera_command();
+    EXPECT_EQ(command.rfind("snert render phantom:sphere --size 32 --iso ", 0), 0u) << command;
+    const std::string arguments = render::camera_arguments(render::camera_spec_of(app.camera()));
+    EXPECT_NE(command.find(" --mode snert --iteration 1 " + arguments + " --out "),
+              std::string::npos)
+        << command;
+    render::OrbitCamera other;
+    render::apply_camera_spec(other, render::camera_spec_of(app.camera()),
+                              app.results().mc->mesh.positions);
+    EXPECT_NEAR(other.yaw, app.camera().yaw, 1e-6f);
+    EXPECT_NEAR(other.pitch, app.camera().pitch, 1e-6f);
+    EXPECT_EQ(other.target, app.camera().target);
+    EXPECT_EQ(other.distance, app.camera().distance);
 }

@@ -28,7 +28,7 @@ TEST(Settings, RoundTripsEveryField) {
     s.parameters.relax.max_iterations = 345;
     s.parameters.relax.epsilon = 3e-5f;
     s.parameters.triangulation = TriangulationRule::Delaunay;
-    s.view = {"smooth", true, 0.3f, "top"};
+    s.view = {"smooth", true, 0.3f, "top", "radius-ratio"};
     s.layout.window_width = 1000;
     s.layout.bottom_tab = 1;
     s.play_speed = 25;
@@ -46,6 +46,9 @@ TEST(Settings, RoundTripsEveryField) {
     SourceSpec cubic{"/f.nrrd"};
     cubic.isotropic = 0.0f; // the smallest spacing
     s.recent_files = {labelled, raw, SourceSpec{"/e.mhd"}, cubic};
+    s.iso_by_input[format_source_line(labelled)] = 190.5f;
+    s.iso_by_input["/not/recent.nrrd"] = 7.0f; // only the recent inputs' are kept
+    s.output_folder = "/a b/out";
     const std::string text = format_settings(s);
     EXPECT_NE(text.find("isotropic = 0.75\n"), std::string::npos) << text;
     EXPECT_NE(text.find("recent = /f.nrrd | isotropic=0\n"), std::string::npos) << text;
@@ -63,10 +66,14 @@ TEST(Settings, RoundTripsEveryField) {
     EXPECT_TRUE(back.view.wireframe);
     EXPECT_EQ(back.view.quality_threshold, 0.3f);
     EXPECT_EQ(back.view.preset, "top");
+    EXPECT_EQ(back.view.color_by, "radius-ratio");
     EXPECT_EQ(back.layout.window_width, 1000);
     EXPECT_EQ(back.layout.bottom_tab, 1);
     EXPECT_EQ(back.play_speed, 25.0f);
     EXPECT_EQ(back.recent_files, s.recent_files);
+    ASSERT_EQ(back.iso_by_input.size(), 1u);
+    EXPECT_EQ(back.iso_by_input.at(format_source_line(labelled)), 190.5f);
+    EXPECT_EQ(back.output_folder, "/a b/out");
 }
 
 TEST(Settings, SkipsBadValuesAndUnknownKeys) {

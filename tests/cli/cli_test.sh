@@ -182,7 +182,7 @@ expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phanto
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count many
 # render --equal-count draws the reduced meshes (only where the renderer is built).
 if "$SNERT" render --help >/dev/null 2>&1; then
-    expect_exit 0 "equal triangle count: 400" -- "$SNERT" render phantom:sphere --size 24 --iterations 5 --equal-count 400 --width 320 --height 240 --gl osmesa --out "$tmp/eq.png"
+    expect_exit 0 "equal triangle count: 400" -- "$SNERT" render phantom:sphere --size 24 --iterations 5 --equal-count 400 --width 400 --height 300 --gl osmesa --out "$tmp/eq.png"
     [ -s "$tmp/eq.png" ] || fail "render --equal-count wrote no picture"
 fi
 expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --iterations 3

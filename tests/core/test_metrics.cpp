@@ -124,6 +124,33 @@ TEST(QualityStats, MixOfKnownTriangles) {
     EXPECT_EQ(q[2], 0.0f);
 }
 
+// Each measure per triangle, and its summary: the same means and bins as quality_stats.
+TEST(TriangleMeasures, PerTriangleAndSummarised) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {2, 0, 0}, {1, std::sqrt(3.0f), 0}, // equilateral
+                   {0, 0, 5}, {1, 0, 5}, {0, 1, 5},               // right isosceles
+                   {0, 0, 9}, {1, 0, 9}, {2, 0, 9}};              // degenerate
+    m.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    const TriangleMeasures t = triangle_measures(m);
+    EXPECT_EQ(t.quality, triangle_quality(m));
+    ASSERT_EQ(t.quality60.size(), 3u);
+    EXPECT_NEAR(t.quality60[1], 0.75f, 1e-6);
+    EXPECT_NEAR(t.radius_ratio[1], 2.0 * (std::sqrt(2.0) - 1.0), 1e-6);
+    EXPECT_EQ(t.radius_ratio[2], 0.0f);
+    EXPECT_EQ(t.of(ShapeMeasure::Quality60).data(), t.quality60.data());
+
+    const QualityStats s = quality_stats(m);
+    EXPECT_NEAR(summarize_measure(t.of(ShapeMeasure::Quality)).mean, s.mean, 1e-6);
+    EXPECT_EQ(summarize_measure(t.of(ShapeMeasure::Quality)).histogram, s.histogram);
+    const MeasureSummary q60 = summarize_measure(t.of(ShapeMeasure::Quality60));
+    EXPECT_NEAR(q60.mean, s.quality60_mean, 1e-6);
+    EXPECT_EQ(q60.histogram[0], 1u);
+    EXPECT_EQ(q60.histogram[15], 1u); // 0.75
+    EXPECT_EQ(q60.histogram[kQualityBins - 1], 1u);
+    EXPECT_NEAR(summarize_measure(t.of(ShapeMeasure::RadiusRatio)).mean, s.radius_ratio_mean, 1e-6);
+    EXPECT_EQ(summarize_measure({}).mean, 0.0);
+}
+
 TEST(QualityStats, SliversBelowOneTenth) {
     // Isosceles needles with apex angle 2 atan(w): q = apex / base angle, about 4 w / pi for
     // small w. w = 0.07 gives q = 0.09 (a sliver), w = 0.09 gives q = 0.116 (not one).

@@ -172,3 +172,40 @@ TEST(Camera, ZoomOrbitAndPanMoveAsDocumented) {
     EXPECT_NEAR(glm::length(camera.target - before),
                 camera.distance * std::tan(camera.fov_y * 0.5f), 1e-4f);
 }
+
+// A camera written as a spec (the app's View > Copy camera) and applied to another camera
+// (snert render --azimuth ...) is the same camera; roll turns the image plane about the view.
+TEST(Camera, SpecRoundTripsAndRollTurnsTheImagePlane) {
+    OrbitCamera camera;
+    camera.target = {3.0f, -2.0f, 7.5f};
+    camera.distance = 42.0f;
+    camera.yaw = 0.7f;
+    camera.pitch = -0.3f;
+    camera.roll = 0.25f;
+    const CameraSpec spec = camera_spec_of(camera);
+    const std::vector<glm::vec3> points = {{0, 0, 0}, {6, -4, 15}};
+    OrbitCamera other = frame_points(points, ViewPreset::Front, 1.0f);
+    apply_camera_spec(other, spec, points);
+    EXPECT_NEAR(other.yaw, camera.yaw, 1e-6f);
+    EXPECT_NEAR(other.pitch, camera.pitch, 1e-6f);
+    EXPECT_NEAR(other.roll, camera.roll, 1e-6f);
+    EXPECT_EQ(other.target, camera.target);
+    EXPECT_EQ(other.distance, camera.distance);
+    // The planes enclose the points seen from there.
+    for (const glm::vec3& p : points) {
+        const float depth = glm::dot(other.eye() - p, other.back());
+        EXPECT_GT(depth, other.near_plane);
+        EXPECT_LT(depth, other.far_plane);
+    }
+    EXPECT_EQ(camera_arguments(CameraSpec{45.0f, 35.26f, 0.0f, glm::vec3(1.5f, 2, 3), 160.25f}),
+              "--azimuth 45 --elevation 35.26 --roll 0 --target 1.5,2,3 --distance 160.25");
+
+    // Roll: right and up turn about back() by the angle, and stay orthonormal.
+    OrbitCamera level = camera;
+    level.roll = 0.0f;
+    EXPECT_NEAR(glm::dot(camera.right(), level.right()), std::cos(0.25f), 1e-6f);
+    EXPECT_NEAR(glm::dot(camera.right(), level.up()), std::sin(0.25f), 1e-6f);
+    EXPECT_NEAR(glm::dot(camera.right(), camera.back()), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(camera.up(), camera.right()), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(camera.up()), 1.0f, 1e-6f);
+}
