@@ -62,9 +62,12 @@ App::App(AppOptions options) : options_(std::move(options)) {
     fallback_ = p.volume;
     if (options_.source && !(*options_.source == p.volume)) {
         before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside}; // the saved input's, for a fallback
+        if (closes_border_by_default(*options_.source) != closes_border_by_default(p.volume))
+            p.close_border.reset(); // a label map closes by default, grey values do not
         p.volume = *options_.source;
         p.auto_iso = true; // a saved iso belongs to the saved volume
     }
+    if (options_.close_border) p.close_border = *options_.close_border;
     if (options_.iso) {
         p.iso = *options_.iso;
         p.auto_iso = false;
@@ -267,6 +270,9 @@ void App::open(const SourceSpec& spec) {
     if (spec.is_phantom()) phantom_size_ = spec.phantom_size;
     if (p.volume == spec) return;
     if (!before_open_) before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside};
+    // Between a label map and grey values the default applies again (on for label maps).
+    if (closes_border_by_default(spec) != closes_border_by_default(p.volume))
+        p.close_border.reset();
     p.volume = spec;
     p.auto_iso = true;
     load_error_.clear();

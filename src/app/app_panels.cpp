@@ -468,6 +468,15 @@ void App::draw_iso_section() {
     help_marker("Inside the object: the samples at or above the iso value (bone in CT, the "
                 "phantoms) or at or below it (air, CSF in a T1 MRI).");
     p.inside = inside == 0 ? InsideIs::Above : InsideIs::Below;
+    bool close_border = p.closes_border();
+    if (ImGui::Checkbox("Close surfaces at the border", &close_border))
+        p.close_border = close_border;
+    record("close_border_checkbox");
+    help_marker("The volume is treated as surrounded by one layer of outside, so a surface that "
+                "reaches the border is closed there, by Marching Cubes and by the net alike, and "
+                "the caps are relaxed like the rest (what an FE mesher needs: a closed surface). "
+                "On by default for a label map, off for grey values (--close-border on the "
+                "command line).");
     ImGui::Spacing();
 }
 

@@ -197,7 +197,7 @@ InputChoice input_choice(const InputArgs& a) {
 }
 
 bool closes_border(const InputChoice& choice) {
-    return choice.close_border.value_or(!choice.spec.labels.empty());
+    return choice.close_border.value_or(closes_border_by_default(choice.spec));
 }
 
 Source close_border_if_chosen(Source source, const InputChoice& choice, float iso,

@@ -192,6 +192,10 @@ Source close_border(Source source, float iso, InsideIs inside) {
     return source;
 }
 
+bool closes_border_by_default(const SourceSpec& spec) {
+    return !spec.labels.empty();
+}
+
 glm::ivec3 read_dims(const Source& source) {
     if (!source.volume) return glm::ivec3(0);
     return source.border_closed ? source.volume->dims - 2 : source.volume->dims;

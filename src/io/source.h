@@ -85,6 +85,10 @@ Source open_source(const SourceSpec& spec, const Progress& progress = {});
 // closed already is returned as it is.
 Source close_border(Source source, float iso, InsideIs inside);
 
+// Whether surfaces are closed at the border unless the user says otherwise: on for a label map
+// (as 3D Slicer pads one), off for grey values (an open cut shows where the scan ends).
+bool closes_border_by_default(const SourceSpec& spec);
+
 // The grid as read: the volume's dims, less the padding of close_border().
 glm::ivec3 read_dims(const Source& source);
 
