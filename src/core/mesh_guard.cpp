@@ -273,7 +273,8 @@ int shared_corners(const Triangle& a, const Triangle& b) {
 // except pairs of polygons that did not change (`changed`, per polygon) since a check that
 // passed them. Marks the nodes of intersecting pairs in `refused`.
 void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes,
-                const std::vector<std::uint8_t>& along_ac, Points old_p, Points new_p,
+                const std::vector<std::uint8_t>& along_ac,
+                const std::vector<std::uint8_t>& old_along_ac, Points old_p, Points new_p,
                 const std::vector<std::uint8_t>& changed, std::vector<std::uint32_t>& polygons,
                 std::vector<TriangleData>& triangles, std::vector<std::uint32_t>& owner,
                 std::vector<std::uint8_t>& refused) {
@@ -322,10 +323,21 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
                     if (shared_corners(ta.nodes, tb.nodes) == 2) {
                         // Neighbours across an edge meet only there; a fold is what can go
                         // wrong between them.
+                        // A pair that was not in the mesh before (a quad's diagonal flipped)
+                        // counts as unfolded then.
+                        const auto same_split = [&](std::size_t polygon) {
+                            const std::uint32_t id = polygons[polygon];
+                            return id >= along_ac.size() || along_ac[id] == old_along_ac[id];
+                        };
                         const double now = normal_cos(ta.nodes, tb.nodes, new_p.world);
-                        if (now < -kFoldCos && now < normal_cos(ta.nodes, tb.nodes, old_p.world)) {
-                            for (std::uint32_t n : ta.nodes) mark(refused, n);
-                            for (std::uint32_t n : tb.nodes) mark(refused, n);
+                        const double before = same_split(i) && same_split(j)
+                                                  ? normal_cos(ta.nodes, tb.nodes, old_p.world)
+                                                  : 1.0;
+                        if (now < -kFoldCos && now < before) {
+                            // Every corner of both polygons: a fold a flipped diagonal shows
+                            // may come from a corner that is in neither triangle.
+                            for (int k = 0; k < ni; ++k) mark(refused, ci[std::size_t(k)]);
+                            for (int k = 0; k < nj; ++k) mark(refused, cj[std::size_t(k)]);
                             continue;
                         }
                     }
@@ -475,6 +487,13 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
     std::vector<std::uint32_t> cell_of; // node -> cell (index of cell_starts), from round 2 on
     constexpr std::uint32_t kNoCell = UINT32_MAX;
     std::vector<std::uint8_t> refused(nodes, 0), shortened(nodes, 0), along_ac(net.quads.size());
+    // How each quad splits at the old positions: the mesh the step starts from.
+    std::vector<std::uint8_t> old_along_ac(net.quads.size());
+    for_each_chunk(net.quads.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t id = b; id < e; ++id)
+            old_along_ac[id] =
+                splits_along_ac(net, std::uint32_t(id), old_positions, rule, spacing) ? 1 : 0;
+    });
     constexpr int kHalvings = 2, kMaxRounds = 64;
     for (int round = 0; round < kMaxRounds; ++round) {
         check_quality(net, rule, spacing, old_p, new_p, changed_ids, along_ac, refused);
@@ -488,8 +507,8 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                 // A cell of one node checks the pairs of that node's star only.
                 if (members.size() == 1 && star_is_embedded(net, members[0], along_ac, new_p.world))
                     continue;
-                check_cell(net, members, along_ac, old_p, new_p, changed, polygons, triangles,
-                           owner, refused);
+                check_cell(net, members, along_ac, old_along_ac, old_p, new_p, changed, polygons,
+                           triangles, owner, refused);
             }
         });
         // Shorten the refused moves, and check again around them.
