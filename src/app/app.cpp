@@ -64,12 +64,15 @@ App::App(AppOptions options)
     fallback_ = p.volume;
     if (options_.source && !(*options_.source == p.volume)) {
         before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside}; // the saved input's, for a fallback
+        if (closes_border_by_default(*options_.source) != closes_border_by_default(p.volume))
+            p.close_border.reset(); // a label map closes by default, grey values do not
         p.volume = *options_.source;
         // A saved iso belongs to the saved volume; this one may have its own from before.
         const auto remembered = settings_.iso_by_input.find(format_source_line(p.volume));
         p.auto_iso = remembered == settings_.iso_by_input.end();
         if (!p.auto_iso) p.iso = remembered->second;
     }
+    if (options_.close_border) p.close_border = *options_.close_border;
     if (options_.iso) {
         p.iso = *options_.iso;
         p.auto_iso = false;
@@ -322,6 +325,9 @@ void App::open(const SourceSpec& spec) {
     if (spec.is_phantom()) phantom_size_ = spec.phantom_size;
     if (p.volume == spec) return;
     if (!before_open_) before_open_ = IsoChoice{p.auto_iso, p.iso, p.inside};
+    // Between a label map and grey values the default applies again (on for label maps).
+    if (closes_border_by_default(spec) != closes_border_by_default(p.volume))
+        p.close_border.reset();
     p.volume = spec;
     const auto remembered = settings_.iso_by_input.find(format_source_line(spec));
     p.auto_iso = remembered == settings_.iso_by_input.end();

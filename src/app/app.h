@@ -61,6 +61,7 @@ struct AppOptions {
     std::optional<SourceSpec> source; // the input; empty: the saved one
     std::optional<float> iso;         // a fixed iso value; empty: the saved choice
     std::optional<InsideIs> inside;   // which side is the object; empty: the saved choice
+    std::optional<bool> close_border; // close surfaces at the border; empty: the saved choice
     // The relaxation's options (mode, weights, schedule, constraint, gradient, iterations,
     // epsilon, triangulation); iso and inside come from the two members above.
     std::optional<PipelineOptions> pipeline;

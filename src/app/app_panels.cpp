@@ -483,7 +483,7 @@ void App::draw_iso_section() {
         const Histogram& h = results_.source->histogram;
         const float step = iso_step();
         if (const auto value = value_histogram_plot("##value histogram", h, p.iso, step,
-                                                    ImVec2(width, 3.0f * fonts_.size), fonts_)) {
+                                                    ImVec2(width, 2.0f * fonts_.size), fonts_)) {
             p.iso = *value;
             p.auto_iso = false;
         }
@@ -520,7 +520,15 @@ void App::draw_iso_section() {
     help_marker("Inside the object: the samples at or above the iso value (bone in CT, the "
                 "phantoms) or at or below it (air, CSF in a T1 MRI).");
     p.inside = inside == 0 ? InsideIs::Above : InsideIs::Below;
-    ImGui::Spacing();
+    bool close_border = p.closes_border();
+    if (ImGui::Checkbox("Close surfaces at the border", &close_border))
+        p.close_border = close_border;
+    record("close_border_checkbox");
+    help_marker("The volume is treated as surrounded by one layer of outside, so a surface that "
+                "reaches the border is closed there, by Marching Cubes and by the net alike, and "
+                "the caps are relaxed like the rest (what an FE mesher needs: a closed surface). "
+                "On by default for a label map, off for grey values (--close-border on the "
+                "command line).");
 }
 
 void App::draw_relaxation_section() {

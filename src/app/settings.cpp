@@ -221,6 +221,18 @@ const std::vector<Field>& fields() {
                  bool_field("auto_iso", SNERT_MEMBER(parameters.auto_iso)),
                  float_field("iso", SNERT_MEMBER(parameters.iso), -1e30f, 1e30f),
                  choice_field<InsideIs>("inside", SNERT_MEMBER(parameters.inside)),
+                 // true or false once chosen in the app; absent: the input's default.
+                 Field{"close_border",
+                       [](const Settings&s) {
+                           const std::optional<bool>& c = s.parameters.close_border;
+                           return c ? std::string(*c ? "true" : "false") : std::string();
+                       },
+                       [](Settings&s, const std::string&text) {
+                           if (text != "true" && text != "false") return false;
+                           s.parameters.close_border = text == "true";
+                           return true;
+                       },
+                       true},
                  choice_field<RelaxMode>("mode", SNERT_MEMBER(parameters.relax.mode)),
                  float_field("smoothing_weight", SNERT_MEMBER(parameters.relax.smoothing_weight), 0,
                              10),
@@ -278,14 +290,20 @@ JobRequest Parameters::request() const {
     job.volume = volume;
     if (!auto_iso) job.iso = iso;
     job.options.inside = inside;
+    job.close_border = closes_border();
     job.options.relax = relax;
     job.options.relax.triangulation = triangulation;
     return job;
 }
 
+bool Parameters::closes_border() const {
+    return close_border.value_or(closes_border_by_default(volume));
+}
+
 bool Parameters::operator==(const Parameters& other) const {
     return volume == other.volume && auto_iso == other.auto_iso && iso == other.iso &&
-           inside == other.inside && relax == other.relax && triangulation == other.triangulation;
+           inside == other.inside && close_border == other.close_border && relax == other.relax &&
+           triangulation == other.triangulation;
 }
 
 void Settings::add_recent(const SourceSpec& spec) {

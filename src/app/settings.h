@@ -27,10 +27,14 @@ struct Parameters {
     bool auto_iso = true; // use the input's suggested iso (the phantom's, a label's, Otsu's)
     float iso = 0.0f;     // used when !auto_iso
     InsideIs inside = InsideIs::Above;
+    // Close the surfaces at the volume border (io/source.h's close_border); empty: the input's
+    // default (closes_border_by_default: on for a label map).
+    std::optional<bool> close_border;
     RelaxOptions relax; // mode, weights, schedule, constraint, gradient, iterations, eps
     TriangulationRule triangulation = TriangulationRule::ShorterDiagonal;
 
     JobRequest request() const;
+    bool closes_border() const; // close_border, or the input's default
     bool operator==(const Parameters&) const;
 };
 

@@ -408,16 +408,29 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
         set_stage(generation, Stage::Load);
         if (!cached_source_ || !(cached_source_->spec == request.volume)) {
             cached_source_.reset();
+            cached_closed_.reset();
             cached_mc_.reset();
             cached_source_ = std::make_shared<const Source>(
                 open_source(request.volume, stage_progress(Stage::Load, stop)));
         }
-        progress_.fraction[std::size_t(Stage::Load)].store(1.0f);
+        const float iso = request.iso.value_or(cached_source_->suggested_iso);
         job.source = cached_source_;
+        if (request.close_border) {
+            // One layer of outside around the grids, padded at this iso (core/closed_border.h).
+            if (!cached_closed_ || cached_closed_iso_ != iso ||
+                cached_closed_inside_ != request.options.inside) {
+                cached_closed_.reset();
+                cached_closed_ = std::make_shared<const Source>(
+                    close_border(*cached_source_, iso, request.options.inside));
+                cached_closed_iso_ = iso;
+                cached_closed_inside_ = request.options.inside;
+            }
+            job.source = cached_closed_;
+        }
+        progress_.fraction[std::size_t(Stage::Load)].store(1.0f);
         const Volume& volume = *job.source->volume;
         const Segmentation* mask = job.source->mask.get();
 
-        const float iso = request.iso.value_or(job.source->suggested_iso);
         job.options = request.options;
         job.options.iso = iso;
         job.options.relax.iso = iso;
@@ -437,7 +450,8 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
         progress_.fraction[std::size_t(Stage::Segment)].store(1.0f);
 
         set_stage(generation, Stage::MarchingCubes);
-        if (!cached_mc_ || cached_mc_iso_ != iso || cached_mc_inside_ != job.options.inside) {
+        if (!cached_mc_ || cached_mc_iso_ != iso || cached_mc_inside_ != job.options.inside ||
+            cached_mc_closed_ != request.close_border) {
             cached_mc_.reset();
             cached_mc_ =
                 display_mesh(run_method(Method::MarchingCubes, volume, mask, job.options,
@@ -445,6 +459,7 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
                              ++next_geometry_);
             cached_mc_iso_ = iso;
             cached_mc_inside_ = job.options.inside;
+            cached_mc_closed_ = request.close_border;
         }
         progress_.fraction[std::size_t(Stage::MarchingCubes)].store(1.0f);
         post(generation, MarchingCubesMessage{cached_mc_});

@@ -38,8 +38,8 @@
 // positions; every frame's metrics and convergence number is measure()'s.
 //
 // Caches: the last opened input is kept while its SourceSpec stays equal, so changing a
-// parameter does not reload the file; the last Marching Cubes result is kept while input, iso
-// and inside stay the same.
+// parameter does not reload the file; its copy closed at the border while iso and inside stay
+// the same; the last Marching Cubes result while input, iso, inside and closing stay the same.
 #pragma once
 
 #include <array>
@@ -70,8 +70,9 @@ namespace snert::app {
 // One job: an input and the pipeline's parameters (DESIGN.md).
 struct JobRequest {
     SourceSpec volume;
-    std::optional<float> iso; // empty: the input's suggested iso
-    PipelineOptions options;  // options.iso and options.relax.iso are set from the iso
+    std::optional<float> iso;  // empty: the input's suggested iso
+    PipelineOptions options;   // options.iso and options.relax.iso are set from the iso
+    bool close_border = false; // close the surfaces at the volume border (io/source.h)
 };
 
 enum class Stage : int { Idle, Load, Segment, MarchingCubes, Net, Relax, Done, Failed };
@@ -271,6 +272,11 @@ class Worker {
     std::shared_ptr<const DisplayMesh> cached_mc_;
     float cached_mc_iso_ = 0.0f;
     InsideIs cached_mc_inside_ = InsideIs::Above;
+    bool cached_mc_closed_ = false;
+    // The cached input closed at the border, for the iso and inside rule it was padded at.
+    std::shared_ptr<const Source> cached_closed_;
+    float cached_closed_iso_ = 0.0f;
+    InsideIs cached_closed_inside_ = InsideIs::Above;
 
     std::uint64_t next_geometry_ = 0; // worker thread only
 

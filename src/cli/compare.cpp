@@ -37,9 +37,10 @@ Runner add_compare(CLI::App& app) {
         const InputChoice choice = input_choice(args->input);
         if (!args->json.empty() && args->json != "-") check_output(args->json, {".json"});
         const ProgressLine progress("compare", args->quiet);
-        const Source source = open_input(choice, progress.stage("reading"));
+        Source source = open_input(choice, progress.stage("reading"));
         const float iso = choice.iso.value_or(source.suggested_iso);
         const InsideIs inside = choice.inside.value_or(source.suggested_inside);
+        source = close_border_if_chosen(std::move(source), choice, iso, inside);
         const PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
         const Measured m = measured(source, iso);
         std::vector<MethodResult> results;
@@ -77,7 +78,10 @@ Runner add_compare(CLI::App& app) {
             provenance_json("compare", input_json(source), iso, inside, pipeline.relax);
         json["provenance"]["iso_from"] = choice.iso ? "--iso" : source.iso_reason;
         std::ostream& table = args->json == "-" ? std::cerr : std::cout;
-        print_table(table, m.name + " (iso " + format_number(iso) + ")", results, m);
+        print_table(table,
+                    m.name + " (iso " + format_number(iso) +
+                        (source.border_closed ? ", closed at the border)" : ")"),
+                    results, m);
         if (equal) print_equal_count(table, *equal, results);
         if (!curves.empty()) print_compactness(table, methods, curves);
         if (!args->json.empty()) write_json(args->json, json);

@@ -46,9 +46,10 @@ Runner add_export(CLI::App& app) {
         }
         check_output(args->out, {".stl", ".obj", ".ply", ".off", ".vtk", ".msh", ".inp"});
         const ProgressLine progress("export", args->quiet);
-        const Source source = open_input(choice, progress.stage("reading"));
+        Source source = open_input(choice, progress.stage("reading"));
         const float iso = choice.iso.value_or(source.suggested_iso);
         const InsideIs inside = choice.inside.value_or(source.suggested_inside);
+        source = close_border_if_chosen(std::move(source), choice, iso, inside);
         const Measured m = measured(source, iso);
         const MethodResult result =
             run_source_method(args->method, source, pipeline_options(args->pipeline, iso, inside),

@@ -108,6 +108,7 @@ app::WindowOptions window_options(const GuiArgs& args) {
     }
     options.app.iso = choice.iso;
     options.app.inside = choice.inside;
+    options.app.close_border = choice.close_border;
     const bool use_settings = !args.no_settings && args.screenshot.empty() && !args.stats;
     if (use_settings) options.app.settings_path = app::default_settings_path();
     options.save_settings = use_settings;

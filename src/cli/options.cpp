@@ -161,6 +161,13 @@ void add_input_options(CLI::App& command, InputArgs& a, bool optional_input) {
                     ->type_name("N")
                     ->group(kInputGroup);
     a.o_isotropic = add_isotropic_option(command, a.isotropic)->group(kInputGroup);
+    a.o_close_border =
+        command
+            .add_flag("--close-border,!--no-close-border", a.close_border,
+                      "treat the volume as surrounded by one layer of outside, so every surface "
+                      "that reaches the border is closed there (default: on with --labels, off "
+                      "for grey values)")
+            ->group(kInputGroup);
     a.o_raw->needs(a.o_raw_type);
     a.o_raw_type->needs(a.o_raw);
     a.o_raw_spacing->needs(a.o_raw);
@@ -190,6 +197,7 @@ InputChoice input_choice(const InputArgs& a) {
     c.spec.input = a.input;
     if (a.o_iso->count()) c.iso = a.iso;
     c.inside = a.inside;
+    if (a.o_close_border && a.o_close_border->count()) c.close_border = a.close_border;
     if (c.spec.is_phantom()) {
         for (const CLI::Option* o : {a.o_raw, a.o_raw_type, a.o_raw_spacing, a.o_raw_endian,
                                      a.o_series, a.o_labels, a.o_label, a.o_isotropic})
@@ -215,6 +223,16 @@ InputChoice input_choice(const InputArgs& a) {
     c.spec.labels = a.labels;
     if (a.o_label->count()) c.spec.label = a.label;
     return c;
+}
+
+bool closes_border(const InputChoice& choice) {
+    return choice.close_border.value_or(closes_border_by_default(choice.spec));
+}
+
+Source close_border_if_chosen(Source source, const InputChoice& choice, float iso,
+                              InsideIs inside) {
+    if (!closes_border(choice)) return source;
+    return close_border(std::move(source), iso, inside);
 }
 
 Source open_input(const InputChoice& choice, const Progress& progress) {

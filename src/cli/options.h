@@ -61,16 +61,18 @@ struct InputArgs {
     std::optional<InsideIs> inside;
     std::string raw, raw_type, raw_spacing, raw_endian, series, labels;
     int label = 0;
+    bool close_border = false; // --close-border / --no-close-border, when given
     CLI::Option *o_input = nullptr, *o_size = nullptr, *o_iso = nullptr, *o_raw = nullptr,
                 *o_raw_type = nullptr, *o_raw_spacing = nullptr, *o_raw_endian = nullptr,
-                *o_series = nullptr, *o_labels = nullptr, *o_label = nullptr;
+                *o_series = nullptr, *o_labels = nullptr, *o_label = nullptr,
+                *o_close_border = nullptr;
     std::string isotropic; // --isotropic [MM]: the edge as typed, empty: the smallest spacing
     CLI::Option* o_isotropic = nullptr;
 };
 
 // VOLUME (required unless `optional_input`), --size, --iso, --inside, --raw, --raw-type,
-// --raw-spacing, --raw-endian, --series, --labels, --label, --isotropic: what every command
-// that reads a volume accepts, the app included.
+// --raw-spacing, --raw-endian, --series, --labels, --label, --isotropic, --close-border: what
+// every command that reads a volume accepts, the app included.
 void add_input_options(CLI::App& command, InputArgs& args, bool optional_input = false);
 
 // --isotropic [MM] into `text` (empty: the smallest spacing); add_input_options declares it,
@@ -81,9 +83,18 @@ std::optional<float> isotropic_edge(const CLI::Option* option, const std::string
 // What the input options ask for.
 struct InputChoice {
     SourceSpec spec;
-    std::optional<float> iso;       // --iso; empty: the source's suggestion
-    std::optional<InsideIs> inside; // --inside; empty: the source's suggestion
+    std::optional<float> iso;         // --iso; empty: the source's suggestion
+    std::optional<InsideIs> inside;   // --inside; empty: the source's suggestion
+    std::optional<bool> close_border; // --close-border / --no-close-border; empty: the default
 };
+
+// Whether the surfaces are closed at the volume border: --close-border or --no-close-border
+// where given, else on for a label map and off for grey values (as 3D Slicer pads a label map).
+bool closes_border(const InputChoice& choice);
+
+// The opened input, closed at the border (io/source.h's close_border) where closes_border()
+// says so, at the iso and inside rule chosen; else `source` as it is (nothing copied).
+Source close_border_if_chosen(Source source, const InputChoice& choice, float iso, InsideIs inside);
 
 // After parsing. Throws CLI::ValidationError for options that do not apply to the input: a
 // phantom with --raw, --series, --labels or --isotropic (its voxels are cubic already), a file

@@ -51,7 +51,7 @@ std::string net_title(Method method, std::optional<int> iteration) {
 std::string caption(const Source& source, float iso, InsideIs inside,
                     const PipelineOptions& options, Method net, bool exact_iterations,
                     const Measured& m) {
-    const glm::ivec3 d = source.volume->dims;
+    const glm::ivec3 d = read_dims(source);
     std::string text = m.name + "  \xC2\xB7  " + std::to_string(d.x) + "\xC3\x97" +
                        std::to_string(d.y) + "\xC3\x97" + std::to_string(d.z) + " samples";
     text += "  \xC2\xB7  iso " + format_number(iso);
@@ -280,9 +280,10 @@ Runner add_render(CLI::App& app) {
             render::create_offscreen_context(args->gl);
 
         const ProgressLine progress("render", args->quiet);
-        const Source source = open_input(choice, progress.stage("reading"));
+        Source source = open_input(choice, progress.stage("reading"));
         const float iso = choice.iso.value_or(source.suggested_iso);
         const InsideIs inside = choice.inside.value_or(source.suggested_inside);
+        source = close_border_if_chosen(std::move(source), choice, iso, inside);
         PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
         std::optional<int> iteration;
         if (args->o_iteration->count()) {

@@ -310,7 +310,9 @@ nlohmann::json input_json(const Source& source) {
     }
     if (source.volume) {
         const Volume& v = *source.volume;
-        j["dims"] = {v.dims.x, v.dims.y, v.dims.z};
+        const glm::ivec3 dims = read_dims(source);
+        j["dims"] = {dims.x, dims.y, dims.z};
+        j["close_border"] = source.border_closed;
         j["spacing"] = shortest(v.spacing);
         if (spec.isotropic) j["isotropic"] = shortest(v.spacing.x); // the edge used, mm
     }

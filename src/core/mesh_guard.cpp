@@ -183,6 +183,23 @@ int closed_fan(const SurfaceNet& net, std::uint32_t node, Fan (&order)[kMaxFans]
     return order[0].next == order[count - 1].prev ? count : 0;
 }
 
+// Two triangles that share an edge fold onto each other when their normals point nearly opposite
+// ways: the surface doubles back and the two nearly overlap (dihedral angle under 10 degrees).
+// Not an intersection, but an FE mesher cannot recover such a pair (TetGen stops with "two
+// facets nearly overlap"), so a move that makes a fold, or a fold worse, is refused like one.
+constexpr double kFoldCos = 0.98480775301220802; // cos(10 degrees)
+
+// Cosine of the angle between the normals of the triangles `a` and `b` at the points `p`.
+double normal_cos(const Triangle& a, const Triangle& b, std::span<const glm::vec3> p) {
+    const auto normal = [&](const Triangle& t) {
+        const glm::dvec3 o(p[t[0]]);
+        return glm::cross(glm::dvec3(p[t[1]]) - o, glm::dvec3(p[t[2]]) - o);
+    };
+    const glm::dvec3 na = normal(a), nb = normal(b);
+    const double size = std::sqrt(glm::dot(na, na) * glm::dot(nb, nb));
+    return size > 0.0 ? glm::dot(na, nb) / size : 1.0;
+}
+
 // True when the triangles of `node`'s star (its polygons split as `along_ac` says) certainly
 // meet only in shared corners and edges, shown without testing pairs: projected along the
 // star's mean normal, every triangle keeps its orientation and the star's rim turns once around
@@ -221,10 +238,15 @@ bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
     const auto positive = [&](float x, float size2) {
         return x > 0.0f && x * x > kMargin2 * size2 * normal2;
     };
-    for (int t = 0; t < triangle_count; ++t)
-        if (!positive(glm::dot(triangle_normals[t], normal),
-                      glm::dot(triangle_normals[t], triangle_normals[t])))
+    // Every triangle within 85 degrees of the mean normal: then no two of them fold onto each
+    // other (normals more than 170 degrees apart, kFoldCos), which the pair test refuses.
+    constexpr float kCos85Squared = 0.00759612f;
+    for (int t = 0; t < triangle_count; ++t) {
+        const float along = glm::dot(triangle_normals[t], normal);
+        const float size2 = glm::dot(triangle_normals[t], triangle_normals[t]);
+        if (!positive(along, size2) || along * along <= kCos85Squared * size2 * normal2)
             return false;
+    }
     float rim2[2 * kMaxFans];
     for (int k = 0; k < rim_count; ++k) rim2[k] = glm::dot(rim[k], rim[k]);
     // Every turn of the rim is positive (under half a turn) ...
@@ -241,11 +263,18 @@ bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
     return true;
 }
 
+int shared_corners(const Triangle& a, const Triangle& b) {
+    int shared = 0;
+    for (const std::uint32_t n : a) shared += n == b[0] || n == b[1] || n == b[2];
+    return shared;
+}
+
 // Checks every pair of triangles of the polygons around `cell_nodes` (the nodes of one cell),
 // except pairs of polygons that did not change (`changed`, per polygon) since a check that
 // passed them. Marks the nodes of intersecting pairs in `refused`.
 void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes,
-                const std::vector<std::uint8_t>& along_ac, Points new_p,
+                const std::vector<std::uint8_t>& along_ac,
+                const std::vector<std::uint8_t>& old_along_ac, Points old_p, Points new_p,
                 const std::vector<std::uint8_t>& changed, std::vector<std::uint32_t>& polygons,
                 std::vector<TriangleData>& triangles, std::vector<std::uint32_t>& owner,
                 std::vector<std::uint8_t>& refused) {
@@ -291,6 +320,27 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
                     if (glm::any(glm::lessThan(ta.hi, tb.lo)) ||
                         glm::any(glm::lessThan(tb.hi, ta.lo)))
                         continue;
+                    if (shared_corners(ta.nodes, tb.nodes) == 2) {
+                        // Neighbours across an edge meet only there; a fold is what can go
+                        // wrong between them.
+                        // A pair that was not in the mesh before (a quad's diagonal flipped)
+                        // counts as unfolded then.
+                        const auto same_split = [&](std::size_t polygon) {
+                            const std::uint32_t id = polygons[polygon];
+                            return id >= along_ac.size() || along_ac[id] == old_along_ac[id];
+                        };
+                        const double now = normal_cos(ta.nodes, tb.nodes, new_p.world);
+                        const double before = same_split(i) && same_split(j)
+                                                  ? normal_cos(ta.nodes, tb.nodes, old_p.world)
+                                                  : 1.0;
+                        if (now < -kFoldCos && now < before) {
+                            // Every corner of both polygons: a fold a flipped diagonal shows
+                            // may come from a corner that is in neither triangle.
+                            for (int k = 0; k < ni; ++k) mark(refused, ci[std::size_t(k)]);
+                            for (int k = 0; k < nj; ++k) mark(refused, cj[std::size_t(k)]);
+                            continue;
+                        }
+                    }
                     if (separated_by_plane(ta, tb) || separated_by_plane(tb, ta)) continue;
                     if (separated_by_edge_plane(ta, tb) || separated_by_edge_plane(tb, ta))
                         continue;
@@ -437,6 +487,13 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
     std::vector<std::uint32_t> cell_of; // node -> cell (index of cell_starts), from round 2 on
     constexpr std::uint32_t kNoCell = UINT32_MAX;
     std::vector<std::uint8_t> refused(nodes, 0), shortened(nodes, 0), along_ac(net.quads.size());
+    // How each quad splits at the old positions: the mesh the step starts from.
+    std::vector<std::uint8_t> old_along_ac(net.quads.size());
+    for_each_chunk(net.quads.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t id = b; id < e; ++id)
+            old_along_ac[id] =
+                splits_along_ac(net, std::uint32_t(id), old_positions, rule, spacing) ? 1 : 0;
+    });
     constexpr int kHalvings = 2, kMaxRounds = 64;
     for (int round = 0; round < kMaxRounds; ++round) {
         check_quality(net, rule, spacing, old_p, new_p, changed_ids, along_ac, refused);
@@ -450,8 +507,8 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                 // A cell of one node checks the pairs of that node's star only.
                 if (members.size() == 1 && star_is_embedded(net, members[0], along_ac, new_p.world))
                     continue;
-                check_cell(net, members, along_ac, new_p, changed, polygons, triangles, owner,
-                           refused);
+                check_cell(net, members, along_ac, old_along_ac, old_p, new_p, changed, polygons,
+                           triangles, owner, refused);
             }
         });
         // Shorten the refused moves, and check again around them.

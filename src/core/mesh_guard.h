@@ -6,7 +6,11 @@
 // each cell this checks every pair of triangles of the quads around its nodes (exactly, see
 // triangle_intersection.h; a cell of one node whose star is shown embedded as a whole needs no
 // pair test), and each quad's smallest/largest angle: a quad under
-// kSliverQuality that was better before the step is refused too. The nodes of a refused pair or
+// kSliverQuality that was better before the step is refused too, and so is a pair of triangles
+// across an edge folded onto each other (normals more than 170 degrees apart) that was less
+// folded before (or not in the mesh: a quad's diagonal flipped), refusing every corner of
+// both polygons: not an intersection, but an FE mesher (TetGen) cannot recover two facets
+// that nearly overlap. The nodes of a refused pair or
 // quad take half their move, then none; the check is repeated around them until nothing is
 // refused. A step from a valid mesh therefore gives a valid mesh, at the price of moves left
 // short (counted by the caller).

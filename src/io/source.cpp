@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/closed_border.h"
 #include "core/phantom.h"
 #include "core/pipeline.h"
 #include "isotropic.h"
@@ -211,6 +212,29 @@ Source open_source(const SourceSpec& spec, const Progress& progress) {
         *source.volume, 128, source.info ? source.info->range : value_range(*source.volume));
     progress.update(1.0f);
     return source;
+}
+
+Source close_border(Source source, float iso, InsideIs inside) {
+    if (source.border_closed || !source.volume) return source;
+    source.volume = std::make_shared<const Volume>(pad_outside(*source.volume, iso, inside));
+    if (source.mask) source.mask = std::make_shared<const Segmentation>(pad_outside(*source.mask));
+    if (DistanceFunction exact = std::move(source.exact_reference.distance)) {
+        // Index (i, j, k) of the padded grid is (i - 1, j - 1, k - 1) of the phantom's.
+        source.exact_reference.distance = [exact = std::move(exact)](glm::vec3 p) {
+            return exact(p - 1.0f);
+        };
+    }
+    source.border_closed = true;
+    return source;
+}
+
+bool closes_border_by_default(const SourceSpec& spec) {
+    return !spec.labels.empty();
+}
+
+glm::ivec3 read_dims(const Source& source) {
+    if (!source.volume) return glm::ivec3(0);
+    return source.border_closed ? source.volume->dims - 2 : source.volume->dims;
 }
 
 AccuracyReference accuracy_reference(const Source& source, float iso) {

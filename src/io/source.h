@@ -68,6 +68,9 @@ struct Source {
     std::vector<std::string> warnings; // one line each, e.g. NaN samples replaced
     // The phantom's exact surface at suggested_iso (empty for files).
     AccuracyReference exact_reference;
+    // close_border() padded `volume` and `mask` with one layer of outside (their dims are the
+    // grid read + 2; world coordinates as read).
+    bool border_closed = false;
 };
 
 // Opens `spec`. Throws std::invalid_argument (bad options: unknown phantom, raw dims, a label
@@ -76,6 +79,22 @@ struct Source {
 // grid that would not fit in memory), each one line starting with the path;
 // Cancelled when `progress` asks.
 Source open_source(const SourceSpec& spec, const Progress& progress = {});
+
+// The source with every surface closed at the volume border (core/closed_border.h), for both
+// methods: the grey volume surrounded by one layer of samples outside at `iso` / `inside`
+// (what Marching Cubes and the gradient term see), the label's mask by outside voxels, the
+// phantom's exact reference moved with the grids' index shift. World coordinates stay as read;
+// the histogram and the iso suggestion stay those of the volume read. The volume read is
+// released when `source` held the only reference to it (so pass it with std::move); a source
+// closed already is returned as it is.
+Source close_border(Source source, float iso, InsideIs inside);
+
+// Whether surfaces are closed at the border unless the user says otherwise: on for a label map
+// (as 3D Slicer pads one), off for grey values (an open cut shows where the scan ends).
+bool closes_border_by_default(const SourceSpec& spec);
+
+// The grid as read: the volume's dims, less the padding of close_border().
+glm::ivec3 read_dims(const Source& source);
 
 // The reference accuracies are measured against at `iso`: the phantom's exact surface when
 // iso is the phantom's own, else the first-order distance |I(p) - iso| / |grad I(p)| of the

@@ -13,6 +13,7 @@ namespace fs = std::filesystem;
 
 TEST(Settings, RoundTripsEveryField) {
     Settings s;
+    s.parameters.close_border = false;
     s.parameters.volume = {"/data/head.nrrd", 96};
     s.parameters.auto_iso = false;
     s.parameters.iso = 123.456f;
@@ -190,4 +191,23 @@ TEST(PathCompletion, CompletesAgainstExistingFiles) {
     EXPECT_TRUE(openable_path(base + "head.nrrd"));
     EXPECT_TRUE(openable_path(base + "series1"));
     EXPECT_FALSE(openable_path(base + "nothing"));
+}
+
+// Closing the border: absent from the file (the input's default: on for a label map) until
+// chosen, then true or false.
+TEST(Settings, CloseBorderDefaultsByInputUntilChosen) {
+    Settings s;
+    s.parameters.volume = {"/data/ct.nii.gz"};
+    EXPECT_FALSE(s.parameters.request().close_border);
+    EXPECT_EQ(format_settings(s).find("close_border"), std::string::npos);
+    s.parameters.volume.labels = "/data/seg.nii.gz";
+    s.parameters.volume.label = 5;
+    EXPECT_TRUE(s.parameters.request().close_border);
+    s.parameters.close_border = false;
+    EXPECT_FALSE(s.parameters.request().close_border);
+    const std::string text = format_settings(s);
+    EXPECT_NE(text.find("close_border = false\n"), std::string::npos) << text;
+    const Settings back = parse_settings(text);
+    EXPECT_EQ(back.parameters.close_border, std::optional<bool>(false));
+    EXPECT_FALSE(parse_settings("close_border = maybe\n").parameters.close_border);
 }

@@ -330,6 +330,49 @@ TEST(Worker, ReusesVolumeAndMarchingCubes) {
     expect_matches_pipeline(r, job);
 }
 
+// Closing the border (io/source.h) gives the CLI's closed meshes; turning it off again gives
+// the open ones back, Marching Cubes included (its cache knows the difference).
+TEST(Worker, ClosesTheBorderLikeTheCommandLine) {
+    Worker worker;
+    JobResults r;
+    JobRequest job = phantom_job("plane", 16, std::nullopt, 5);
+    job.close_border = true;
+    r.start(worker.request(job));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    ASSERT_TRUE(r.error.empty()) << r.error;
+    ASSERT_TRUE(r.mc && r.frame && r.source);
+    EXPECT_TRUE(r.source->border_closed);
+    EXPECT_EQ(r.source->volume->dims, glm::ivec3(18));
+    for (const DisplayMesh* m : {r.mc.get(), r.frame.get()}) {
+        EXPECT_TRUE(m->metrics.topology.watertight);
+        EXPECT_TRUE(m->metrics.topology.manifold);
+        EXPECT_EQ(m->metrics.topology.euler, 2);
+        EXPECT_TRUE(m->metrics.fe_ready);
+    }
+    // The same meshes as close_border + run_method, as `snert compare --close-border` runs.
+    const Source closed = close_border(open_source(job.volume), 0.0f, InsideIs::Above);
+    PipelineOptions o = job.options;
+    const AccuracyReference reference = accuracy_reference(closed, 0.0f);
+    o.measure.reference_volume = reference.volume;
+    const MethodResult mc =
+        run_method(Method::MarchingCubes, *closed.volume, nullptr, o, reference.distance);
+    const MethodResult net =
+        run_method(Method::Snert, *closed.volume, nullptr, o, reference.distance);
+    EXPECT_TRUE(same_mesh(r.mc->mesh, mc.mesh));
+    EXPECT_TRUE(same_mesh(r.frame->mesh, net.mesh));
+    expect_same_measures(r.mc->metrics, mc.metrics);
+    expect_same_measures(r.frame->metrics, net.metrics);
+
+    job.close_border = false;
+    r.start(worker.request(job));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    ASSERT_TRUE(r.mc && r.frame && r.source);
+    EXPECT_FALSE(r.source->border_closed);
+    EXPECT_FALSE(r.mc->metrics.topology.watertight);
+    EXPECT_FALSE(r.frame->metrics.topology.watertight);
+    expect_matches_pipeline(r, job);
+}
+
 // The frames' metrics are measure()'s of the same mesh (core/pipeline.h), at an iteration the
 // worker triangulates itself and at the last one, which the pipeline made; the convergence
 // numbers of every iteration are measure()'s too.

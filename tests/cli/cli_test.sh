@@ -110,7 +110,7 @@ python3 - "$tmp/out" <<'PY' || fail "compare provenance"
 import json, sys
 p = json.load(open(sys.argv[1]))["provenance"]
 assert p["command"] == "compare" and p["version"].count(".") == 2, p
-assert p["input"] == {"phantom": "sphere", "size": 16, "dims": [16, 16, 16], "spacing": [1, 1, 1]}, p["input"]
+assert p["input"] == {"phantom": "sphere", "size": 16, "dims": [16, 16, 16], "spacing": [1, 1, 1], "close_border": False}, p["input"]
 assert p["iso"] == 0 and p["inside"] == "above", p
 r = p["relaxation"]
 assert r["iterations"] == 3 and r["mode"] == "snert" and r["schedule"] == "simultaneous", r
@@ -227,6 +227,37 @@ if command -v script >/dev/null; then
     pass
 fi
 
+# --close-border: every surface closed at the volume border (the plane leaves the grid on all
+# sides); off by default for grey values; --no-close-border and --close-border=false turn it off.
+closed_facts() {
+    python3 - "$@" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+want = sys.argv[2] == "closed"
+assert j["provenance"]["input"]["close_border"] == want, j["provenance"]["input"]
+for m in ("mc", "snert"):
+    f = j[m]
+    if want:
+        assert f["watertight"] and f["manifold"] and f["boundary_edges"] == 0, m
+        if len(sys.argv) > 3:
+            assert f["euler"] == int(sys.argv[3]), (m, f["euler"])
+        assert f["boundary_edges_off_border"] == 0 and f["fe_ready"], m
+    else:
+        assert not f["watertight"] and f["boundary_edges"] > 0, m
+PY
+}
+expect_exit 0 "" -- "$SNERT" compare phantom:plane --size 16 --iterations 3 --mode snert --close-border --json "$tmp/closed.json"
+closed_facts "$tmp/closed.json" closed 2 || fail "--close-border: the plane is not closed"
+grep -q "closed at the border" "$tmp/out" || fail "--close-border: the table's title does not say so"
+[ "$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['provenance']['input']['dims'])" "$tmp/closed.json")" = "[16, 16, 16]" ] || fail "--close-border: the JSON's dims are not the grid read"
+for off in "" --no-close-border --close-border=false; do
+    expect_exit 0 "" -- "$SNERT" compare phantom:plane --size 16 --iterations 3 --mode snert $off --json "$tmp/open.json"
+    closed_facts "$tmp/open.json" open || fail "'$off': the plane is closed"
+done
+expect_exit 0 "wrote" -- "$SNERT" export phantom:plane --size 16 --iterations 3 --close-border --out "$tmp/closed.off"
+expect_exit 0 "" -- "$SNERT" bench --size 16 --repeat 1 --close-border
+grep -q "close the border" "$tmp/out" || fail "bench --close-border: no row for the padding"
+
 # Real volumes, when the shared data folder is there.
 data=${SNERT_DATA_DIR:-}
 if [ -n "$data" ] && [ -d "$data" ]; then
@@ -241,6 +272,12 @@ if [ -n "$data" ] && [ -d "$data" ]; then
     expect_exit 2 "example_seg.nii.gz: label 21 does not occur.*5 liver" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 21
     expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --no-compactness --json -
     python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['provenance']['input']; assert p['label']==5 and p['label_name']=='liver' and p['format']=='NIfTI', p" "$tmp/out" || fail "label provenance"
+    # A label map closes its surfaces at the border by default (the liver reaches the last
+    # slices; closed, it has one handle: Euler characteristic 0); --no-close-border leaves them
+    # open there.
+    closed_facts "$tmp/out" closed 0 || fail "--labels: the liver is not closed by default"
+    expect_exit 0 "" -- "$SNERT" compare "$ct" --labels "$data/totalseg_ct_abdomen/example_seg.nii.gz" --label 5 --mode snert --iterations 2 --no-close-border --json "$tmp/liver_open.json"
+    closed_facts "$tmp/liver_open.json" open || fail "--no-close-border: the liver is closed"
     expect_exit 2 "--raw: applies to volume files" -- "$SNERT" compare phantom:sphere --raw 64,64,93 --raw-type uint16
     expect_exit 0 "wrote" -- "$SNERT" export "$data/headsq/quarter.1" --raw 64,64,93 --raw-type uint16 --raw-spacing 3.2,3.2,1.5 --iso 500 --iterations 5 --method snert --out "$tmp/head.ply"
 else
