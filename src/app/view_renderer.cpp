@@ -47,7 +47,7 @@ void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
     upload_preview(v);
 }
 
-std::span<const float> ViewRenderer::values(int view) {
+std::span<const float> ViewRenderer::values(int view) const {
     const auto v = std::size_t(view);
     const auto& mesh = meshes_[v];
     if (!mesh) return {};

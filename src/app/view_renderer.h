@@ -44,7 +44,7 @@ class ViewRenderer {
     // triangles are drawn unmeasured (the surface colour) until they come.
     void set_distances(const std::optional<DistanceMessage>& distances);
     // The values a view's colours show now (what was sent to the GPU).
-    std::span<const float> values(int view);
+    std::span<const float> values(int view) const;
 
     // Draws the views at width x height pixels each: a view whose mesh changed, or both when
     // the camera, the style or the size did; otherwise their last pictures stay. Leaves the
@@ -85,7 +85,7 @@ class ViewRenderer {
     int render_count_ = 0;
     ShapeMeasure measure_ = ShapeMeasure::Quality;
     std::optional<DistanceMessage> distances_;
-    std::array<std::vector<float>, kViews> unmeasured_; // NaN per triangle
+    mutable std::array<std::vector<float>, kViews> unmeasured_; // NaN per triangle
 };
 
 } // namespace snert::app
