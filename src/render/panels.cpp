@@ -131,19 +131,27 @@ void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float thresho
     const float f = fonts.size;
     const bool distance = is_distance(measure);
     const std::string symbol(label_of(measure));
-    const std::string caption = measure == ShapeMeasure::Quality ? "triangle quality q"
-                                : distance ? symbol + " (" + std::string(scale.unit) + ")"
-                                           : "triangle " + symbol;
+    std::string caption = measure == ShapeMeasure::Quality ? "triangle quality q"
+                          : distance ? symbol + " (" + std::string(scale.unit) + ")"
+                                     : "triangle " + symbol;
     // The shapes: the poor-quality swatch; the signed distance: which side is which.
-    const std::string note = !distance         ? symbol + format(" < %.2f", threshold)
-                             : scale.diverging ? "- inside, + outside"
-                                               : "";
-    const ImVec2 caption_size = text_size(fonts.regular, caption);
-    const ImVec2 note_size = text_size(fonts.regular, note);
+    std::string note = !distance         ? symbol + format(" < %.2f", threshold)
+                       : scale.diverging ? "- inside, + outside"
+                                         : "";
     const float swatch = distance ? 0.0f : std::round(0.8f * f);
     const float gap = std::round(0.6f * f);
     // caption | bar | swatch + "q < t", centred as a group; the bar takes what is left.
-    const float fixed = caption_size.x + gap + gap + swatch + 0.3f * f + note_size.x;
+    const auto fixed_width = [&] {
+        return text_size(fonts.regular, caption).x + gap + gap + swatch + 0.3f * f +
+               text_size(fonts.regular, note).x;
+    };
+    // A distance's long caption in a narrow view (the app's): the note goes first (the ticks'
+    // signs say it too), then the caption shortens to the unit.
+    if (distance && max.x - min.x - fixed_width() < 10.0f * f) note.clear();
+    if (distance && max.x - min.x - fixed_width() < 10.0f * f)
+        caption = "distance (" + std::string(scale.unit) + ")";
+    const ImVec2 caption_size = text_size(fonts.regular, caption);
+    const float fixed = fixed_width();
     const float bar_width = std::clamp(max.x - min.x - fixed, 4.0f * f, 18.0f * f);
     float x = std::round(0.5f * (min.x + max.x - fixed - bar_width));
     const float bar_height = std::round(0.8f * f);
@@ -163,7 +171,9 @@ void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float thresho
     }
     draw->AddRect(ImVec2(bar_left, bar_top), ImVec2(bar_right, bar_top + bar_height), kAxis);
     const float tick_top = bar_top + bar_height;
-    for (int i = 0; i <= 4; ++i) {
+    // A short bar has room for the ends and the middle of a distance's range only.
+    const int tick_step = distance && bar_width < 12.0f * f ? 2 : 1;
+    for (int i = 0; i <= 4; i += tick_step) {
         const float t = 0.25f * float(i);
         const float tx = std::round(bar_left + t * bar_width);
         draw->AddLine(ImVec2(tx, tick_top), ImVec2(tx, tick_top + 0.25f * f), kAxis);
