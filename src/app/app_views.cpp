@@ -112,10 +112,10 @@ void App::draw_toolbar() {
         ImGui::SameLine();
         const ShapeMeasure measure = color_by();
         const std::string symbol(label_of(measure));
-        float widest = 0.0f;
-        for (const Named<ShapeMeasure>& row : name_table(ShapeMeasure{}))
-            widest = std::max(widest, ImGui::CalcTextSize(std::string(row.label).c_str()).x);
-        ImGui::SetNextItemWidth(widest + ImGui::GetFrameHeight() +
+        // As wide as the longest shape's label, wider only for the distance shown.
+        const float label_width =
+            std::max(ImGui::CalcTextSize("radius ratio").x, ImGui::CalcTextSize(symbol.c_str()).x);
+        ImGui::SetNextItemWidth(label_width + ImGui::GetFrameHeight() +
                                 2 * ImGui::GetStyle().FramePadding.x);
         if (ImGui::BeginCombo("##color by", symbol.c_str())) {
             for (const Named<ShapeMeasure>& row : name_table(ShapeMeasure{})) {
