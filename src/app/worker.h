@@ -27,6 +27,9 @@
 //    two last meshes (CompactnessMessage, after the FinishedMessage): the compactness curves and
 //    the equal-count pair. Only on request (the app's Compactness tab or its switch): on a large
 //    scan it takes minutes of the measurer's time.
+//  - set_color_by(): while the views colour by a distance (to the iso-surface, to the other
+//    mesh), each frame posted is followed by a DistanceMessage for the pair (MC and that
+//    frame), measured on the worker thread; nothing is measured while a shape is chosen.
 //  - continue_relaxation() relaxes the finished job further, up to `extra` iterations or until
 //    the largest move falls under epsilon ("run to convergence").
 //  - The worker never touches GL or ImGui. The destructor cancels and joins.
