@@ -27,6 +27,8 @@ uniform vec3 surface_color;         // sRGB
 uniform samplerBuffer quality;      // one float per triangle
 uniform sampler1D colormap;         // sRGB
 uniform float quality_threshold;    // below: poor_color
+uniform float value_low;            // the value at the map's first colour
+uniform float value_high;           // the value at its last colour
 uniform vec3 poor_color;            // sRGB
 uniform bool wireframe;
 uniform float line_half_width;      // pixels on each side of an edge
@@ -74,11 +76,12 @@ void main() {
     vec3 color;
     if (shading == kQuality) {
         float q = texelFetch(quality, triangle).r;
-        // Sample the texel centres so 0 and 1 give the map's end colours exactly.
+        // Sample the texel centres so the range's ends give the map's end colours exactly.
         float size = float(textureSize(colormap, 0));
-        vec3 albedo = q < quality_threshold
-                          ? poor_color
-                          : texture(colormap, (clamp(q, 0.0, 1.0) * (size - 1.0) + 0.5) / size).rgb;
+        float t = clamp((q - value_low) / (value_high - value_low), 0.0, 1.0);
+        vec3 albedo = isnan(q)                  ? surface_color // not measured (yet)
+                      : q < quality_threshold ? poor_color
+                                              : texture(colormap, (t * (size - 1.0) + 0.5) / size).rgb;
         // Softer lighting keeps the colours readable against the legend.
         color = to_linear(albedo) * (0.45 + 0.55 * diffuse_light(n)) + 0.05 * highlight(n, v);
     } else {

@@ -223,8 +223,11 @@ void App::drain_worker() {
         worker_->want_compactness(results_.generation);
         compactness_asked_ = results_.generation;
     }
+    // Distances are measured on the worker, and only while one is chosen.
+    worker_->set_color_by(color_by());
     views_->set_mesh(0, shown_mc());
     views_->set_mesh(1, shown_net());
+    views_->set_distances(results_.distances);
 }
 
 // The iso chosen by hand for the input shown, kept for when it is opened again.
@@ -518,6 +521,25 @@ render::DrawStyle App::draw_style() const {
 // the current job, or it would frame the old volume.
 ShapeMeasure App::color_by() const {
     return parse_name<ShapeMeasure>(settings_.view.color_by).value_or(ShapeMeasure::Quality);
+}
+
+MeasureScale App::color_scale() const {
+    const ShapeMeasure measure = color_by();
+    const std::optional<DistanceMessage>& d = results_.distances;
+    if (is_distance(measure) && d && d->distances && d->distances->measure == measure)
+        return d->distances->scale;
+    return measure_scale(measure);
+}
+
+const MeasureSummary* App::shown_summary(int view, ShapeMeasure measure) const {
+    const DisplayMesh* mesh = view == 0 ? results_.mc.get() : results_.frame.get();
+    if (!mesh) return nullptr;
+    if (!is_distance(measure)) return &mesh->summary(measure);
+    const std::optional<DistanceMessage>& d = results_.distances;
+    if (!d || !d->distances || d->distances->measure != measure) return nullptr;
+    if (view == 0 && d->mc_geometry == mesh->geometry) return &d->distances->first_summary;
+    if (view == 1 && d->net_geometry == mesh->geometry) return &d->distances->second_summary;
+    return nullptr;
 }
 
 void App::frame_camera_if_needed() {

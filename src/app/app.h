@@ -214,6 +214,13 @@ class App {
     const ViewRenderer& view_renderer() const { return *views_; }
     render::DrawStyle draw_style() const;
     ShapeMeasure color_by() const; // the measure the colours and the histograms show
+    // The histogram panel's summary of `measure` for Marching Cubes (0) or the net's frame (1):
+    // a distance's from the worker's DistanceMessage measured on that mesh; null while there is
+    // none (no mesh, or its distances not measured yet).
+    const MeasureSummary* shown_summary(int view, ShapeMeasure measure) const;
+    // The range the colours, the legend and the histograms span: the worker's for a distance
+    // (pair_distances), [0, 1] for a shape.
+    MeasureScale color_scale() const;
     // True while something is changing (a job, playback, a frame on its way): keep drawing
     // frames; otherwise the glue may sleep until the next input event.
     bool animating() const;

@@ -717,14 +717,17 @@ void App::draw_quality_tab() {
     for (std::size_t i = 0, m = 0; i < 2; ++i) {
         if (!shown[i]) continue;
         histogram_metrics[i] = *methods[m].metrics;
-        histogram_metrics[i].quality.mean = shown[i]->summary(measure).mean;
-        histogram_metrics[i].quality.histogram = shown[i]->summary(measure).histogram;
-        histogram_methods[m++].metrics = &histogram_metrics[i];
+        const MeasureSummary* summary = shown_summary(int(i), measure);
+        histogram_metrics[i].quality.mean = summary ? summary->mean : 0.0;
+        if (summary) histogram_metrics[i].quality.histogram = summary->histogram;
+        // Not measured yet (a distance on its way): no series, rather than a wrong one.
+        histogram_methods[m++].metrics = summary ? &histogram_metrics[i] : nullptr;
     }
-    render::draw_quality_histograms(
-        ImGui::GetWindowDrawList(), ImVec2(start.x + pad, start.y + pad),
-        ImVec2(start.x + pad + histogram_width, start.y + inner_height), histogram_methods, fonts_,
-        settings_.view.shading == "quality", settings_.view.quality_threshold, measure);
+    render::draw_quality_histograms(ImGui::GetWindowDrawList(),
+                                    ImVec2(start.x + pad, start.y + pad),
+                                    ImVec2(start.x + pad + histogram_width, start.y + inner_height),
+                                    histogram_methods, fonts_, settings_.view.shading == "quality",
+                                    settings_.view.quality_threshold, measure, color_scale());
     const float table_x = start.x + 2.5f * pad + histogram_width;
     const float table_width = start.x + available.x - pad - table_x;
     // Two column groups (half the rows) when one group is too tall; the smaller face when the

@@ -112,7 +112,10 @@ void App::draw_toolbar() {
         ImGui::SameLine();
         const ShapeMeasure measure = color_by();
         const std::string symbol(label_of(measure));
-        ImGui::SetNextItemWidth(ImGui::CalcTextSize("radius ratio").x + ImGui::GetFrameHeight() +
+        // As wide as the longest shape's label, wider only for the distance shown.
+        const float label_width =
+            std::max(ImGui::CalcTextSize("radius ratio").x, ImGui::CalcTextSize(symbol.c_str()).x);
+        ImGui::SetNextItemWidth(label_width + ImGui::GetFrameHeight() +
                                 2 * ImGui::GetStyle().FramePadding.x);
         if (ImGui::BeginCombo("##color by", symbol.c_str())) {
             for (const Named<ShapeMeasure>& row : name_table(ShapeMeasure{})) {
@@ -127,13 +130,16 @@ void App::draw_toolbar() {
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("colour the triangles by %s = %s", symbol.c_str(),
                               std::string(measure_definition(measure)).c_str());
-        ImGui::SameLine();
-        ImGui::SetNextItemWidth(8.5f * fonts_.size);
-        const std::string format = "red: " + symbol + " < %.2f";
-        ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, format.c_str());
-        if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("triangles whose %s is under this value are drawn red",
-                              symbol.c_str());
+        // A distance has no poor-quality red: its scale is fixed (core/metrics.h).
+        if (!is_distance(measure)) {
+            ImGui::SameLine();
+            ImGui::SetNextItemWidth(8.5f * fonts_.size);
+            const std::string format = "red: " + symbol + " < %.2f";
+            ImGui::SliderFloat("##threshold", &view.quality_threshold, 0.0f, 0.6f, format.c_str());
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("triangles whose %s is under this value are drawn red",
+                                  symbol.c_str());
+        }
     }
     // The camera group on a second row when the first has no room for it.
     float camera_width = ImGui::CalcTextSize("Camera").x + ImGui::CalcTextSize("Reset").x +
@@ -191,7 +197,7 @@ void App::draw_views(float width, float height) {
     frame_camera_if_needed();
     views_->set_measure(color_by());
     views_->render(int(std::lround(view_width * scale.x)), int(std::lround(view_height * scale.y)),
-                   camera_, draw_style());
+                   camera_, render::measure_style(draw_style(), color_by(), color_scale()));
 
     const std::shared_ptr<const DisplayMesh> meshes[2] = {shown_mc(), shown_net()};
     const bool current[2] = {results_.mc_current, results_.frame_current && meshes[1] &&
@@ -297,7 +303,7 @@ void App::draw_views(float width, float height) {
                           ImVec2(right + pad, bottom + pad), IM_COL32(200, 204, 212, 255), pad);
             render::draw_quality_legend(draw, ImVec2(right - legend_width, bottom - legend.y),
                                         ImVec2(right, bottom), settings_.view.quality_threshold,
-                                        fonts_, color_by());
+                                        fonts_, color_by(), color_scale());
         }
     }
     views_rect_ = UiRect{origin.x, origin.y, origin.x + 2 * view_width + gap,

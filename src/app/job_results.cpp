@@ -11,6 +11,7 @@ void JobResults::start(std::uint64_t new_generation) {
     iterations.clear();
     finished.reset();
     compactness.reset();
+    distances.reset();
     error.clear();
     mc_current = frame_current = source_current = false;
     frame_recomputed = false;
@@ -45,6 +46,8 @@ bool JobResults::apply(const Message& message) {
                 finished = m;
             } else if constexpr (std::is_same_v<T, CompactnessMessage>) {
                 compactness = m;
+            } else if constexpr (std::is_same_v<T, DistanceMessage>) {
+                distances = m;
             } else if constexpr (std::is_same_v<T, FailedMessage>) {
                 error = m.error;
             }

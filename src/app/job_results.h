@@ -28,6 +28,7 @@ struct JobResults {
     bool frame_recomputed = false;
     std::optional<FinishedMessage> finished;
     std::optional<CompactnessMessage> compactness; // after `finished`
+    std::optional<DistanceMessage> distances;      // the newest, while a distance is chosen
     std::string error;                             // the job failed (one line)
     bool mc_current = false;                       // mc / frame / source belong to `generation`
     bool frame_current = false;

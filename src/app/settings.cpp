@@ -94,6 +94,13 @@ template <class E, class Member> Field choice_field(const char* key, Member memb
             }};
 }
 
+// Every machine name of an enum's table (core/names.h), for string_field's allowed values.
+template <class E> std::vector<std::string> names_of() {
+    std::vector<std::string> names;
+    for (const Named<E>& row : name_table(E{})) names.emplace_back(row.name);
+    return names;
+}
+
 template <class Member>
 Field string_field(const char* key, Member member, std::vector<std::string> allowed = {}) {
     return {key, [member](const Settings& s) { return std::string(member(s)); },
@@ -250,8 +257,7 @@ const std::vector<Field>& fields() {
                  string_field("shading", SNERT_MEMBER(view.shading), {"flat", "smooth", "quality"}),
                  bool_field("wireframe", SNERT_MEMBER(view.wireframe)),
                  float_field("quality_threshold", SNERT_MEMBER(view.quality_threshold), 0, 1),
-                 string_field("color_by", SNERT_MEMBER(view.color_by),
-                              {"q", "q60", "radius-ratio"}),
+                 string_field("color_by", SNERT_MEMBER(view.color_by), names_of<ShapeMeasure>()),
                  string_field("view", SNERT_MEMBER(view.preset), {"front", "side", "top", "iso"}),
                  int_field("window_width", SNERT_MEMBER(layout.window_width), 320, 16384),
                  int_field("window_height", SNERT_MEMBER(layout.window_height), 240, 16384),

@@ -44,7 +44,8 @@ struct ViewSettings {
     float quality_threshold = 0.25f; // triangles under it are highlighted in quality shading
     std::string preset = "iso";      // "front", "side", "top", "iso"
     std::string color_by = "q";      // the measure quality shading and the histograms show:
-                                     // "q", "q60", "radius-ratio" (core/names.h)
+                                     // "q", "q60", "radius-ratio", "distance-iso",
+                                     // "distance-other" (core/names.h)
 };
 
 struct LayoutSettings {

@@ -4,6 +4,8 @@
 #include "render/gl.h"
 
 #include <algorithm>
+#include <limits>
+#include <utility>
 
 namespace snert::app {
 
@@ -19,7 +21,8 @@ bool same_style(const render::DrawStyle& a, const render::DrawStyle& b) {
     return a.shading == b.shading && a.wireframe == b.wireframe &&
            a.quality_threshold == b.quality_threshold && a.surface_color == b.surface_color &&
            a.line_color == b.line_color && a.line_width == b.line_width &&
-           a.background_top == b.background_top && a.background_bottom == b.background_bottom;
+           a.background_top == b.background_top && a.background_bottom == b.background_bottom &&
+           a.value_low == b.value_low && a.value_high == b.value_high && a.diverging == b.diverging;
 }
 
 } // namespace
@@ -33,31 +36,55 @@ void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
     if (slot == mesh) return;
     const bool same_geometry =
         slot && mesh && mesh->geometry != 0 && slot->geometry == mesh->geometry;
-    if (!same_geometry) {
-        if (!mesh)
-            views_[v] = render::MeshView();
-        else if (!slot || !views_[v].update(mesh->mesh, slot->mesh.indices, mesh->values(measure_),
-                                            mesh->normals))
-            views_[v].upload(mesh->mesh, mesh->values(measure_), mesh->normals);
-        dirty_[v] = true;
+    const std::shared_ptr<const DisplayMesh> previous = std::exchange(slot, std::move(mesh));
+    if (same_geometry) return;
+    if (!slot)
+        views_[v] = render::MeshView();
+    else if (!previous ||
+             !views_[v].update(slot->mesh, previous->mesh.indices, values(view), slot->normals))
+        views_[v].upload(slot->mesh, values(view), slot->normals);
+    dirty_[v] = true;
+    upload_preview(v);
+}
+
+std::span<const float> ViewRenderer::values(int view) const {
+    const auto v = std::size_t(view);
+    const auto& mesh = meshes_[v];
+    if (!mesh) return {};
+    if (!is_distance(measure_)) return mesh->values(measure_);
+    if (distances_ && distances_->distances && distances_->distances->measure == measure_) {
+        const PairDistances& pair = *distances_->distances;
+        if (v == 0 && distances_->mc_geometry == mesh->geometry) return pair.first;
+        if (v == 1 && distances_->net_geometry == mesh->geometry) return pair.second;
     }
-    slot = std::move(mesh);
-    if (!same_geometry) upload_preview(v);
+    unmeasured_[v].assign(mesh->mesh.triangle_count(), std::numeric_limits<float>::quiet_NaN());
+    return unmeasured_[v];
+}
+
+void ViewRenderer::upload_values(std::size_t v) {
+    const auto& mesh = meshes_[v];
+    if (!mesh) return;
+    // The same mesh: only the per-triangle values change (indices are compared, none sent).
+    if (!views_[v].update(mesh->mesh, mesh->mesh.indices, values(int(v)), mesh->normals))
+        views_[v].upload(mesh->mesh, values(int(v)), mesh->normals);
+    upload_preview(v);
+    dirty_[v] = true;
 }
 
 void ViewRenderer::set_measure(ShapeMeasure measure) {
     if (measure == measure_) return;
     measure_ = measure;
-    for (std::size_t v = 0; v < meshes_.size(); ++v) {
-        const auto& mesh = meshes_[v];
-        if (!mesh) continue;
-        // The same mesh: only the per-triangle values change (indices are compared, none sent).
-        if (!views_[v].update(mesh->mesh, mesh->mesh.indices, mesh->values(measure_),
-                              mesh->normals))
-            views_[v].upload(mesh->mesh, mesh->values(measure_), mesh->normals);
-        upload_preview(v);
-        dirty_[v] = true;
-    }
+    for (std::size_t v = 0; v < meshes_.size(); ++v) upload_values(v);
+}
+
+void ViewRenderer::set_distances(const std::optional<DistanceMessage>& distances) {
+    const auto pair = [](const std::optional<DistanceMessage>& d) {
+        return d ? d->distances.get() : nullptr;
+    };
+    if (pair(distances) == pair(distances_)) return;
+    distances_ = distances;
+    if (!is_distance(measure_)) return;
+    for (std::size_t v = 0; v < meshes_.size(); ++v) upload_values(v);
 }
 
 // The preview's triangles when they are new; their quality (the triangles they stand for) with
@@ -72,8 +99,8 @@ void ViewRenderer::upload_preview(std::size_t v) {
         return;
     }
     std::vector<float> quality(preview->source.size());
-    const std::span<const float> values = mesh->values(measure_);
-    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = values[preview->source[t]];
+    const std::span<const float> shown = values(int(v));
+    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = shown[preview->source[t]];
     if (previews_[v] == preview) {
         views_[v].set_preview_quality(quality);
     } else {

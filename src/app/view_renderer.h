@@ -39,6 +39,12 @@ class ViewRenderer {
     // new values (computed by the worker, DisplayMesh) and redraws them.
     void set_measure(ShapeMeasure measure);
     ShapeMeasure measure() const { return measure_; }
+    // The worker's distances of the pair (the newest DistanceMessage): while the measure is a
+    // distance, a view shows them when they were measured on its mesh (same geometry), else its
+    // triangles are drawn unmeasured (the surface colour) until they come.
+    void set_distances(const std::optional<DistanceMessage>& distances);
+    // The values a view's colours show now (what was sent to the GPU).
+    std::span<const float> values(int view) const;
 
     // Draws the views at width x height pixels each: a view whose mesh changed, or both when
     // the camera, the style or the size did; otherwise their last pictures stay. Leaves the
@@ -63,6 +69,7 @@ class ViewRenderer {
 
   private:
     void upload_preview(std::size_t view);
+    void upload_values(std::size_t view); // the same mesh, the values of another measure
 
     render::MeshRenderer renderer_;
     std::array<render::MeshView, kViews> views_;
@@ -77,6 +84,8 @@ class ViewRenderer {
     render::DrawStyle last_style_;
     int render_count_ = 0;
     ShapeMeasure measure_ = ShapeMeasure::Quality;
+    std::optional<DistanceMessage> distances_;
+    mutable std::array<std::vector<float>, kViews> unmeasured_; // NaN per triangle
 };
 
 } // namespace snert::app

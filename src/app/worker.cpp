@@ -192,6 +192,17 @@ void Worker::show_iteration(std::uint64_t generation, int iteration) {
     wake_.notify_one();
 }
 
+void Worker::set_color_by(ShapeMeasure measure) {
+    std::lock_guard lock(mutex_);
+    if (measure == color_by_) return;
+    color_by_ = measure;
+    // A distance is measured with the frame: serve the one shown again.
+    if (is_distance(measure) && view_.generation == latest_generation_ && view_.generation != 0) {
+        view_.pending = true;
+        wake_.notify_one();
+    }
+}
+
 void Worker::want_compactness(std::uint64_t generation) {
     std::lock_guard lock(mutex_);
     if (generation != latest_generation_) return;
@@ -633,10 +644,12 @@ void Worker::queue_compactness(Job& job) {
 void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
     ViewRequest view;
     bool undrained = false;
+    ShapeMeasure color_by = ShapeMeasure::Quality;
     {
         std::lock_guard lock(mutex_);
         view = view_;
         undrained = frame_undrained_;
+        color_by = color_by_;
     }
     if (view.generation != job.generation) return;
     const int latest = job.history->latest_iteration();
@@ -658,6 +671,15 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
         const auto frame = make_frame(job, target, positions);
         post(job.generation, FrameMessage{frame, recomputed});
         job.frame_sent = target;
+        if (is_distance(color_by) && cached_mc_) {
+            throw_if_stopped(stop);
+            // The grey iso and its inside, as the accuracy reference measures.
+            auto pair = std::make_shared<const PairDistances>(
+                pair_distances(color_by, cached_mc_->mesh, frame->mesh, *job.source->volume,
+                               job.options.relax.iso, job.options.inside));
+            post(job.generation,
+                 DistanceMessage{std::move(pair), cached_mc_->geometry, frame->geometry, target});
+        }
         // Frames passing by while following the relaxation are not measured; one asked for is,
         // once the user stays on it a moment (stepping quickly measures nothing in between).
         if (!frame->metrics_complete && (view.iteration != kLive || final_frame))
@@ -689,9 +711,15 @@ std::span<const float> DisplayMesh::values(ShapeMeasure measure) const {
     case ShapeMeasure::Quality60:
         return quality60;
     case ShapeMeasure::RadiusRatio:
-        break;
+        return radius_ratio;
+    default:
+        return {};
     }
-    return radius_ratio;
+}
+
+const MeasureSummary& DisplayMesh::summary(ShapeMeasure measure) const {
+    static const MeasureSummary none;
+    return is_distance(measure) ? none : summaries[std::size_t(measure)];
 }
 
 void DisplayMesh::measure_triangles() {

@@ -27,6 +27,9 @@
 //    two last meshes (CompactnessMessage, after the FinishedMessage): the compactness curves and
 //    the equal-count pair. Only on request (the app's Compactness tab or its switch): on a large
 //    scan it takes minutes of the measurer's time.
+//  - set_color_by(): while the views colour by a distance (to the iso-surface, to the other
+//    mesh), each frame posted is followed by a DistanceMessage for the pair (MC and that
+//    frame), measured on the worker thread; nothing is measured while a shape is chosen.
 //  - continue_relaxation() relaxes the finished job further, up to `extra` iterations or until
 //    the largest move falls under epsilon ("run to convergence").
 //  - The worker never touches GL or ImGui. The destructor cancels and joins.
@@ -61,6 +64,7 @@
 
 #include "core/compactness.h"
 #include "core/pipeline.h"
+#include "core/triangle_distances.h"
 #include "io/source.h"
 #include "iteration_history.h"
 #include "preview_mesh.h"
@@ -97,7 +101,8 @@ struct DisplayMesh {
     std::vector<float> quality;      // smallest / largest angle per triangle
     std::vector<float> quality60;    // smallest angle / 60 degrees per triangle
     std::vector<float> radius_ratio; // 2 r / R per triangle
-    // Mean and histogram of each measure (ShapeMeasure order), for the histogram panel.
+    // Mean and histogram of each shape measure (ShapeMeasure order), for the histogram panel.
+    // The distances are not the mesh's alone: they come as a DistanceMessage for the pair.
     std::array<MeasureSummary, 3> summaries{};
     std::vector<glm::vec3> normals; // area-weighted, per vertex
     MethodMetrics metrics;          // counts and quality only while !metrics_complete
@@ -107,10 +112,9 @@ struct DisplayMesh {
     std::shared_ptr<const PreviewMesh> preview;
     std::uint64_t geometry = 0; // equal for two DisplayMeshes with the same mesh
 
+    // A shape measure's values and summary (empty, and a zero summary, for a distance).
     std::span<const float> values(ShapeMeasure measure) const;
-    const MeasureSummary& summary(ShapeMeasure measure) const {
-        return summaries[std::size_t(measure)];
-    }
+    const MeasureSummary& summary(ShapeMeasure measure) const;
     // Fills quality, quality60, radius_ratio and summaries from the mesh (the worker's job).
     void measure_triangles();
 };
@@ -165,9 +169,19 @@ struct CompactnessMessage {
     DecimationReport mc_report, net_report;
 };
 
-using Payload =
-    std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage, FrameMessage,
-                 FinishedMessage, FailedMessage, FrameMetricsMessage, CompactnessMessage>;
+// The distance colouring of the pair shown (core/triangle_distances.h's pair_distances: first
+// Marching Cubes, second the net's frame), made only while a distance is chosen
+// (set_color_by), after each frame posted, so it follows the iteration slider. The geometries
+// name the two meshes it was measured on.
+struct DistanceMessage {
+    std::shared_ptr<const PairDistances> distances;
+    std::uint64_t mc_geometry = 0, net_geometry = 0;
+    int iteration = 0; // the net frame's
+};
+
+using Payload = std::variant<VolumeMessage, MarchingCubesMessage, NetMessage, IterationMessage,
+                             FrameMessage, FinishedMessage, FailedMessage, FrameMetricsMessage,
+                             CompactnessMessage, DistanceMessage>;
 struct Message {
     std::uint64_t generation = 0;
     Payload payload;
@@ -196,6 +210,10 @@ class Worker {
     // Asks for the CompactnessMessage of job `generation` (and of its continuations): made once
     // the job is finished, or at once when it is. Repeated requests cost nothing.
     void want_compactness(std::uint64_t generation);
+
+    // What the views colour by. While it is a distance, every frame posted is followed by its
+    // DistanceMessage; choosing a distance serves the frame shown again to measure it.
+    void set_color_by(ShapeMeasure measure);
 
     // Takes the messages posted since the last call, oldest first. Never blocks on a job.
     std::vector<Message> drain();
@@ -261,6 +279,7 @@ class Worker {
     ViewRequest view_;
     std::optional<std::pair<std::uint64_t, int>> continue_request_;
     std::optional<std::uint64_t> compactness_request_;
+    ShapeMeasure color_by_ = ShapeMeasure::Quality;
     std::vector<Message> outbox_;
     bool frame_undrained_ = false;
     bool working_ = false;

@@ -8,6 +8,7 @@
 #include <span>
 
 #include "commands.h"
+#include "core/triangle_distances.h"
 #include "compactness_report.h"
 #include "io/camera_file.h"
 #include "options.h"
@@ -131,7 +132,9 @@ Runner add_render(CLI::App& app) {
         ->group(group);
     add_name_option(*command, "--color-by", f.color_by,
                     "what quality shading and the histograms show: q (smallest / largest "
-                    "angle), q60 (smallest angle / 60 degrees) or radius-ratio (2 r / R)")
+                    "angle), q60 (smallest angle / 60 degrees), radius-ratio (2 r / R), "
+                    "distance-iso (signed first-order distance to the iso-surface, voxels, + "
+                    "outside) or distance-other (to the other method's mesh, voxels)")
         ->group(group);
     command
         ->add_option("--threshold", f.style.quality_threshold,
@@ -275,6 +278,10 @@ Runner add_render(CLI::App& app) {
         } catch (const std::invalid_argument& e) {
             throw CLI::ValidationError("--width/--height", e.what());
         }
+        if (figure.color_by == ShapeMeasure::DistanceOther && !two_views)
+            throw CLI::ValidationError("--color-by",
+                                       "distance-other needs both meshes (--layout comparison "
+                                       "or views)");
         // Fails early (and clearly) when no offscreen OpenGL is available.
         const std::unique_ptr<render::GlContext> context =
             render::create_offscreen_context(args->gl);
@@ -309,12 +316,25 @@ Runner add_render(CLI::App& app) {
             print_equal_count(std::cerr, *equal, results);
         }
 
+        // Colouring by a distance: the values the app's worker computes (pair_distances).
+        std::vector<std::vector<float>> distances(results.size());
+        if (figure.color_by == ShapeMeasure::DistanceOther) {
+            PairDistances pair = pair_distances(figure.color_by, results[0].mesh, results[1].mesh,
+                                                *source.volume, iso, inside);
+            distances[0] = std::move(pair.first);
+            distances[1] = std::move(pair.second);
+        } else if (figure.color_by == ShapeMeasure::DistanceIso) {
+            for (std::size_t i = 0; i < results.size(); ++i)
+                distances[i] = signed_iso_distances(results[i].mesh, *source.volume, iso, inside);
+        }
         std::vector<render::FigureMethod> methods;
         methods.reserve(results.size());
-        for (const MethodResult& r : results)
+        for (std::size_t i = 0; i < results.size(); ++i) {
+            const MethodResult& r = results[i];
             methods.push_back(
                 {r.method, r.method == Method::MarchingCubes ? "" : net_title(r.method, iteration),
-                 &r.mesh, &r.metrics});
+                 &r.mesh, &r.metrics, distances[i]});
+        }
         if (captioned) {
             figure.caption = caption(source, iso, inside, pipeline, net, iteration.has_value(), m);
             if (equal)

@@ -251,6 +251,10 @@ std::vector<float> triangle_quality(const Mesh& mesh) {
     return quality;
 }
 
+bool is_distance(ShapeMeasure measure) {
+    return measure == ShapeMeasure::DistanceIso || measure == ShapeMeasure::DistanceOther;
+}
+
 std::string_view measure_definition(ShapeMeasure measure) {
     switch (measure) {
     case ShapeMeasure::Quality:
@@ -258,9 +262,24 @@ std::string_view measure_definition(ShapeMeasure measure) {
     case ShapeMeasure::Quality60:
         return "smallest angle / 60\xC2\xB0";
     case ShapeMeasure::RadiusRatio:
+        return "2 r / R (inradius / circumradius)";
+    case ShapeMeasure::DistanceIso:
+        return "(I - iso) / |grad I| at the centroid, + outside";
+    case ShapeMeasure::DistanceOther:
         break;
     }
-    return "2 r / R (inradius / circumradius)";
+    return "centroid to the other method's mesh";
+}
+
+MeasureScale measure_scale(ShapeMeasure measure) {
+    switch (measure) {
+    case ShapeMeasure::DistanceIso:
+        return {-1.0f, 1.0f, true, "voxels"};
+    case ShapeMeasure::DistanceOther:
+        return {0.0f, 1.0f, false, "voxels"};
+    default:
+        return {};
+    }
 }
 
 std::span<const float> TriangleMeasures::of(ShapeMeasure measure) const {
@@ -270,9 +289,10 @@ std::span<const float> TriangleMeasures::of(ShapeMeasure measure) const {
     case ShapeMeasure::Quality60:
         return quality60;
     case ShapeMeasure::RadiusRatio:
-        break;
+        return radius_ratio;
+    default:
+        return {};
     }
-    return radius_ratio;
 }
 
 TriangleMeasures triangle_measures(const Mesh& mesh) {
@@ -295,16 +315,21 @@ TriangleMeasures triangle_measures(const Mesh& mesh) {
     return m;
 }
 
-MeasureSummary summarize_measure(std::span<const float> values) {
+MeasureSummary summarize_measure(std::span<const float> values, const MeasureScale& scale) {
     MeasureSummary s;
-    if (values.empty()) return s;
     double sum = 0; // in triangle order: the same sum on every machine
+    std::size_t counted = 0;
+    const float bins_per_unit = float(kQualityBins) / (scale.high - scale.low);
     for (const float v : values) {
+        if (std::isnan(v)) continue;
         sum += double(v);
-        const int bin = std::clamp(int(v * float(kQualityBins)), 0, kQualityBins - 1);
-        ++s.histogram[std::size_t(bin)];
+        ++counted;
+        // Clamped as a float first: an infinite value lands in an end bin too.
+        const float position =
+            std::clamp((v - scale.low) * bins_per_unit, 0.0f, float(kQualityBins - 1));
+        ++s.histogram[std::size_t(position)];
     }
-    s.mean = sum / double(values.size());
+    if (counted > 0) s.mean = sum / double(counted);
     return s;
 }
 

@@ -60,24 +60,44 @@ std::vector<float> triangle_quality(const Mesh& mesh);
 
 inline constexpr int kQualityBins = 20;
 
-// The triangle measures a view can colour by (names in core/names.h: q, q60, radius-ratio).
-enum class ShapeMeasure { Quality, Quality60, RadiusRatio };
+// The per-triangle measures a view can colour by (names in core/names.h: q, q60, radius-ratio,
+// distance-iso, distance-other). The three shapes come from the mesh alone; the two distances
+// (core/triangle_distances.h) need the volume or the other method's mesh, and cost a pass over
+// the volume or a nearest-point search per triangle, so they are computed only when chosen.
+enum class ShapeMeasure { Quality, Quality60, RadiusRatio, DistanceIso, DistanceOther };
+bool is_distance(ShapeMeasure measure);
 // What a measure is, for legends and axes: "smallest angle / largest angle", ...
 std::string_view measure_definition(ShapeMeasure measure);
 
-// All three measures per triangle in one pass, in triangle order (0 for degenerate).
+// The range a measure's colours and histogram bins span. Values outside are drawn in the end
+// colours and counted in the end bins. The shapes span [0, 1]; a distance spans a range in
+// voxels that suits the meshes measured (triangle_distances.h's distance_scale: symmetric
+// around 0 on a diverging map for the signed distance to the iso-surface, from 0 on the
+// sequential one for the distance to the other mesh); measure_scale gives it one voxel wide
+// until then.
+struct MeasureScale {
+    float low = 0.0f, high = 1.0f;
+    bool diverging = false;
+    std::string_view unit; // "voxels" for the distances, empty for the shapes
+};
+MeasureScale measure_scale(ShapeMeasure measure);
+
+// All three shape measures per triangle in one pass, in triangle order (0 for degenerate).
 struct TriangleMeasures {
     std::vector<float> quality, quality60, radius_ratio;
+    // Empty for a distance (not a shape).
     std::span<const float> of(ShapeMeasure measure) const;
 };
 TriangleMeasures triangle_measures(const Mesh& mesh);
 
-// Mean and histogram over [0, 1] (the bins of QualityStats::histogram) of per-triangle values.
+// Mean and histogram (kQualityBins equal bins over the scale's range, the bins of
+// QualityStats::histogram for the default [0, 1]) of per-triangle values. NaN values are left
+// out of both.
 struct MeasureSummary {
     double mean = 0;
     std::array<std::size_t, kQualityBins> histogram{};
 };
-MeasureSummary summarize_measure(std::span<const float> values);
+MeasureSummary summarize_measure(std::span<const float> values, const MeasureScale& scale = {});
 
 // A sliver: a triangle with quality (smallest / largest angle) below this. Degenerate triangles
 // (quality 0) are slivers too.

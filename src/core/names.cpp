@@ -41,6 +41,8 @@ constexpr Named<ShapeMeasure> kShapeMeasures[] = {
     {ShapeMeasure::Quality, "q", "q"},
     {ShapeMeasure::Quality60, "q60", "q60"},
     {ShapeMeasure::RadiusRatio, "radius-ratio", "radius ratio"},
+    {ShapeMeasure::DistanceIso, "distance-iso", "distance to the iso-surface"},
+    {ShapeMeasure::DistanceOther, "distance-other", "distance to the other mesh"},
 };
 
 } // namespace

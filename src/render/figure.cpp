@@ -7,6 +7,7 @@
 
 #include <imgui.h>
 
+#include "core/triangle_distances.h"
 #include "imgui_offscreen.h"
 #include "panels.h"
 #include "target.h"
@@ -111,7 +112,7 @@ std::vector<glm::vec3> all_vertices(std::span<const FigureMethod> methods) {
 
 void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
                   std::span<const PanelMethod> histogram_panels, const FigureOptions& options,
-                  const FigureFonts& fonts) {
+                  const MeasureScale& scale, const FigureFonts& fonts) {
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
     ImGui::SetNextWindowSize(io.DisplaySize, ImGuiCond_Always);
@@ -129,11 +130,11 @@ void draw_overlay(const FigureRects& rects, std::span<const PanelMethod> panels,
     const bool quality = options.style.shading == Shading::Quality;
     if (rects.legend.width > 0.0f)
         draw_quality_legend(draw, min_of(rects.legend), max_of(rects.legend),
-                            options.style.quality_threshold, fonts, options.color_by);
+                            options.style.quality_threshold, fonts, options.color_by, scale);
     if (options.layout == FigureLayout::Comparison) {
         draw_quality_histograms(draw, min_of(rects.histogram), max_of(rects.histogram),
                                 histogram_panels, fonts, quality, options.style.quality_threshold,
-                                options.color_by);
+                                options.color_by, scale);
         // Two column groups are narrower: their text in the small face, as the app does.
         FigureFonts table_fonts = fonts;
         const bool compact = rects.table_groups > 1;
@@ -177,11 +178,24 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
     std::vector<MeshView> views(methods.size());
     // The histograms show the measure the colours do: its mean and bins in a copy of the metrics.
     std::vector<MethodMetrics> histogram_metrics(methods.size());
+    const bool distance = is_distance(options.color_by);
+    // A distance's range suits the meshes drawn, as the app's (pair_distances) does.
+    const MeasureScale scale =
+        distance ? distance_scale(options.color_by, methods[0].values,
+                                  methods.size() > 1 ? methods[1].values : std::span<const float>{})
+                 : measure_scale(options.color_by);
     for (std::size_t i = 0; i < methods.size(); ++i) {
-        const TriangleMeasures measures = triangle_measures(*methods[i].mesh);
-        views[i].upload(*methods[i].mesh, measures.of(options.color_by));
+        const TriangleMeasures measures =
+            distance ? TriangleMeasures{} : triangle_measures(*methods[i].mesh);
+        const std::span<const float> values =
+            distance ? methods[i].values : measures.of(options.color_by);
+        if (distance && values.size() != methods[i].mesh->triangle_count())
+            throw std::invalid_argument("render_figure: colouring by " +
+                                        std::string(name_of(options.color_by)) +
+                                        " needs one value per triangle");
+        views[i].upload(*methods[i].mesh, values);
         if (!methods[i].metrics) continue;
-        const MeasureSummary summary = summarize_measure(measures.of(options.color_by));
+        const MeasureSummary summary = summarize_measure(values, scale);
         histogram_metrics[i] = *methods[i].metrics;
         histogram_metrics[i].quality.mean = summary.mean;
         histogram_metrics[i].quality.histogram = summary.histogram;
@@ -196,7 +210,8 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
     for (std::size_t i = 0; i < methods.size(); ++i) {
         const Viewport viewport = to_viewport(rects.views[i], options.height);
         renderer.draw_background(viewport, options.style);
-        renderer.draw(views[i], camera, viewport, options.style);
+        renderer.draw(views[i], camera, viewport,
+                      measure_style(options.style, options.color_by, scale));
     }
 
     std::vector<PanelMethod> panels, histogram_panels;
@@ -209,7 +224,7 @@ Image render_figure(std::span<const FigureMethod> methods, const FigureOptions& 
     ImGuiOffscreen gui(rects.font_px);
     target.bind();
     gui.draw(options.width, options.height,
-             [&] { draw_overlay(rects, panels, histogram_panels, options, gui.fonts()); });
+             [&] { draw_overlay(rects, panels, histogram_panels, options, scale, gui.fonts()); });
     return target.read();
 }
 

@@ -79,6 +79,9 @@ struct FigureMethod {
     std::string title;                      // shown title; empty: the method's display name
     const Mesh* mesh = nullptr;             // world units; not owned
     const MethodMetrics* metrics = nullptr; // not owned
+    // The values of FigureOptions::color_by per triangle, for a distance (pair_distances of
+    // core/triangle_distances.h); not owned. Empty for a shape measure: computed here.
+    std::span<const float> values;
 };
 
 struct FigureOptions {

@@ -1,6 +1,7 @@
 #include "mesh_view.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -289,6 +290,14 @@ void MeshView::set_preview_quality(std::span<const float> quality) {
     counters_.quality_bytes += std::size_t(bytes(quality));
 }
 
+DrawStyle measure_style(DrawStyle style, ShapeMeasure measure, const MeasureScale& scale) {
+    style.value_low = scale.low;
+    style.value_high = scale.high;
+    style.diverging = scale.diverging;
+    if (is_distance(measure)) style.quality_threshold = -std::numeric_limits<float>::infinity();
+    return style;
+}
+
 // ---------------------------------------------------------------------------------------------
 // MeshRenderer
 
@@ -324,16 +333,24 @@ void set_viewport(const Viewport& viewport) {
 }
 } // namespace
 
-MeshRenderer::MeshRenderer() : programs_(std::make_unique<Programs>()) {
-    const std::vector<std::uint8_t> colormap = viridis_rgba8(kColormapSize);
-    glGenTextures(1, &colormap_texture_);
-    glBindTexture(GL_TEXTURE_1D, colormap_texture_);
-    glTexImage1D(GL_TEXTURE_1D, 0, GL_RGBA8, kColormapSize, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 colormap.data());
+namespace {
+GLuint colormap_texture(const std::vector<std::uint8_t>& rgba) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_1D, texture);
+    glTexImage1D(GL_TEXTURE_1D, 0, GL_RGBA8, GLsizei(rgba.size() / 4), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 rgba.data());
     glTexParameteri(GL_TEXTURE_1D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_1D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_1D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glBindTexture(GL_TEXTURE_1D, 0);
+    return texture;
+}
+} // namespace
+
+MeshRenderer::MeshRenderer() : programs_(std::make_unique<Programs>()) {
+    colormap_texture_ = colormap_texture(viridis_rgba8(kColormapSize));
+    diverging_texture_ = colormap_texture(cool_warm_rgba8(kColormapSize));
     glGenVertexArrays(1, &empty_vertex_array_);
     check_gl("MeshRenderer");
 }
@@ -341,6 +358,7 @@ MeshRenderer::MeshRenderer() : programs_(std::make_unique<Programs>()) {
 MeshRenderer::~MeshRenderer() {
     glDeleteVertexArrays(1, &empty_vertex_array_);
     glDeleteTextures(1, &colormap_texture_);
+    glDeleteTextures(1, &diverging_texture_);
 }
 
 void MeshRenderer::draw_background(const Viewport& viewport, const DrawStyle& style) const {
@@ -381,6 +399,8 @@ void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const V
     glUniform1i(p.uniform("shading"), int(style.shading));
     glUniform3fv(p.uniform("surface_color"), 1, glm::value_ptr(style.surface_color));
     glUniform1f(p.uniform("quality_threshold"), style.quality_threshold);
+    glUniform1f(p.uniform("value_low"), style.value_low);
+    glUniform1f(p.uniform("value_high"), style.value_high);
     glUniform3fv(p.uniform("poor_color"), 1, glm::value_ptr(kPoorQualityColor));
     glUniform1i(p.uniform("wireframe"), style.wireframe ? 1 : 0);
     glUniform1f(p.uniform("line_half_width"), 0.5f * style.line_width);
@@ -391,7 +411,7 @@ void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const V
     glBindTexture(GL_TEXTURE_BUFFER,
                   preview ? mesh.preview_quality_texture_ : mesh.quality_texture_);
     glActiveTexture(GL_TEXTURE0 + kColormapUnit);
-    glBindTexture(GL_TEXTURE_1D, colormap_texture_);
+    glBindTexture(GL_TEXTURE_1D, style.diverging ? diverging_texture_ : colormap_texture_);
 
     glBindVertexArray(mesh.vertex_array_);
     if (preview) {

@@ -36,13 +36,22 @@ std::span<const Named<Shading>> name_table(Shading);
 struct DrawStyle {
     Shading shading = Shading::Smooth;
     bool wireframe = false;
-    float quality_threshold = 0.25f;                     // Quality: triangles with q below are red
+    float quality_threshold = 0.25f; // Quality: triangles with q below are red
+    // Quality shading of another measure (core/metrics.h's MeasureScale): the values' range
+    // across the map, and the diverging map instead of viridis. NaN values (not measured) are
+    // drawn in surface_color.
+    float value_low = 0.0f, value_high = 1.0f;
+    bool diverging = false;
     glm::vec3 surface_color = kSurfaceColor;             // Flat and Smooth (sRGB)
     glm::vec3 line_color{0.09f, 0.10f, 0.12f};           // wireframe (sRGB)
     float line_width = 1.2f;                             // wireframe line width in pixels
     glm::vec3 background_top{0.985f, 0.988f, 0.992f};    // sRGB
     glm::vec3 background_bottom{0.855f, 0.875f, 0.900f}; // sRGB
 };
+
+// `style` set to colour by `measure` over `scale` (its range and map), and no poor-quality red
+// for a distance.
+DrawStyle measure_style(DrawStyle style, ShapeMeasure measure, const MeasureScale& scale);
 
 // A rectangle of the framebuffer in pixels, origin at the bottom-left (GL's convention).
 struct Viewport {
@@ -123,7 +132,7 @@ class MeshRenderer {
   private:
     struct Programs;
     std::unique_ptr<Programs> programs_;
-    GLuint colormap_texture_ = 0;
+    GLuint colormap_texture_ = 0, diverging_texture_ = 0;
     GLuint empty_vertex_array_ = 0; // the backdrop needs no vertex data, but core GL a VAO
 };
 

@@ -126,18 +126,32 @@ ImVec2 quality_legend_size(float font_px) {
 }
 
 void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float threshold,
-                         const FigureFonts& fonts, ShapeMeasure measure) {
+                         const FigureFonts& fonts, ShapeMeasure measure,
+                         const MeasureScale& scale) {
     const float f = fonts.size;
+    const bool distance = is_distance(measure);
     const std::string symbol(label_of(measure));
-    const std::string caption =
-        measure == ShapeMeasure::Quality ? "triangle quality q" : "triangle " + symbol;
-    const std::string poor = symbol + format(" < %.2f", threshold);
-    const ImVec2 caption_size = text_size(fonts.regular, caption);
-    const ImVec2 poor_size = text_size(fonts.regular, poor);
-    const float swatch = std::round(0.8f * f);
+    std::string caption = measure == ShapeMeasure::Quality ? "triangle quality q"
+                          : distance ? symbol + " (" + std::string(scale.unit) + ")"
+                                     : "triangle " + symbol;
+    // The shapes: the poor-quality swatch; the signed distance: which side is which.
+    std::string note = !distance         ? symbol + format(" < %.2f", threshold)
+                       : scale.diverging ? "- inside, + outside"
+                                         : "";
+    const float swatch = distance ? 0.0f : std::round(0.8f * f);
     const float gap = std::round(0.6f * f);
     // caption | bar | swatch + "q < t", centred as a group; the bar takes what is left.
-    const float fixed = caption_size.x + gap + gap + swatch + 0.3f * f + poor_size.x;
+    const auto fixed_width = [&] {
+        return text_size(fonts.regular, caption).x + gap + gap + swatch + 0.3f * f +
+               text_size(fonts.regular, note).x;
+    };
+    // A distance's long caption in a narrow view (the app's): the note goes first (the ticks'
+    // signs say it too), then the caption shortens to the unit.
+    if (distance && max.x - min.x - fixed_width() < 10.0f * f) note.clear();
+    if (distance && max.x - min.x - fixed_width() < 10.0f * f)
+        caption = "distance (" + std::string(scale.unit) + ")";
+    const ImVec2 caption_size = text_size(fonts.regular, caption);
+    const float fixed = fixed_width();
     const float bar_width = std::clamp(max.x - min.x - fixed, 4.0f * f, 18.0f * f);
     float x = std::round(0.5f * (min.x + max.x - fixed - bar_width));
     const float bar_height = std::round(0.8f * f);
@@ -150,32 +164,46 @@ void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float thresho
     const int slices = std::max(8, int(bar_width));
     for (int i = 0; i < slices; ++i) {
         const float t0 = float(i) / slices, t1 = float(i + 1) / slices;
-        const float t = 0.5f * (t0 + t1);
+        const float value = scale.low + 0.5f * (t0 + t1) * (scale.high - scale.low);
         draw->AddRectFilled(ImVec2(bar_left + t0 * bar_width, bar_top),
                             ImVec2(bar_left + t1 * bar_width + 0.5f, bar_top + bar_height),
-                            to_u32(t < threshold ? kPoorQualityColor : viridis(t)));
+                            to_u32(measure_color(measure, value, threshold, scale)));
     }
     draw->AddRect(ImVec2(bar_left, bar_top), ImVec2(bar_right, bar_top + bar_height), kAxis);
     const float tick_top = bar_top + bar_height;
-    for (int i = 0; i <= 4; ++i) {
+    // A short bar has room for the ends and the middle of a distance's range only.
+    const int tick_step = distance && bar_width < 12.0f * f ? 2 : 1;
+    for (int i = 0; i <= 4; i += tick_step) {
         const float t = 0.25f * float(i);
         const float tx = std::round(bar_left + t * bar_width);
         draw->AddLine(ImVec2(tx, tick_top), ImVec2(tx, tick_top + 0.25f * f), kAxis);
-        const std::string label = i == 0 ? "0" : i == 4 ? "1" : format("%.2f", t);
+        const float value = scale.low + t * (scale.high - scale.low);
+        // The last tick of a distance reads "1+": farther triangles take the end colour.
+        std::string label = i == 0 ? "0" : i == 4 ? "1" : format("%.2f", t);
+        if (distance) {
+            // The range's ends read "1+" and "-0.5+": farther triangles take the end colours.
+            label = value == 0.0f ? "0" : format("%g", double(std::abs(value)));
+            if (value < 0.0f) label = "-" + label;
+            if (i == 4 || (i == 0 && value < 0.0f)) label += "+";
+        }
         const ImVec2 size = text_size(fonts.small, label);
         text(draw, fonts.small, ImVec2(tx - 0.5f * size.x, tick_top + 0.25f * f), kMutedText,
              label);
     }
     x = bar_right + gap;
-    const float swatch_y = std::round(bar_top + 0.5f * (bar_height - swatch));
-    draw->AddRectFilled(ImVec2(x, swatch_y), ImVec2(x + swatch, swatch_y + swatch),
-                        to_u32(kPoorQualityColor), 0.15f * swatch);
-    text(draw, fonts.regular, ImVec2(x + swatch + 0.3f * f, text_y), kText, poor);
+    if (!distance) {
+        const float swatch_y = std::round(bar_top + 0.5f * (bar_height - swatch));
+        draw->AddRectFilled(ImVec2(x, swatch_y), ImVec2(x + swatch, swatch_y + swatch),
+                            to_u32(kPoorQualityColor), 0.15f * swatch);
+    }
+    text(draw, fonts.regular, ImVec2(x + swatch + (distance ? 0.0f : 0.3f * f), text_y), kText,
+         note);
 }
 
 void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
                              std::span<const PanelMethod> methods, const FigureFonts& fonts,
-                             bool colormap_axis, float threshold, ShapeMeasure measure) {
+                             bool colormap_axis, float threshold, ShapeMeasure measure,
+                             const MeasureScale& scale) {
     const float f = fonts.size;
     // Shares per bin, and the top of the y axis.
     std::vector<std::vector<double>> shares;
@@ -227,7 +255,11 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
         legend_x += swatch + 0.35f * f + text_size(fonts.regular, labels[i]).x + 1.0f * f;
     }
 
-    auto x_of = [&](double q) { return float(plot_left + q * (plot_right - plot_left)); };
+    // x of a value of the measure (its scale's range across the axis, clamped to it).
+    auto x_of = [&](double v) {
+        const double t = std::clamp((v - scale.low) / double(scale.high - scale.low), 0.0, 1.0);
+        return float(plot_left + t * (plot_right - plot_left));
+    };
     auto y_of = [&](double v) { return float(plot_bottom - v / y_max * (plot_bottom - plot_top)); };
 
     // Grid and y ticks.
@@ -271,24 +303,33 @@ void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
         const int slices = std::max(8, int(plot_right - plot_left) / 2);
         for (int i = 0; i < slices; ++i) {
             const float t0 = float(i) / slices, t1 = float(i + 1) / slices;
-            const float t = 0.5f * (t0 + t1);
-            draw->AddRectFilled(ImVec2(x_of(t0), plot_bottom + 1),
-                                ImVec2(x_of(t1) + 0.5f, plot_bottom + 1 + strip),
-                                to_u32(t < threshold ? kPoorQualityColor : viridis(t)));
+            const float value = scale.low + 0.5f * (t0 + t1) * (scale.high - scale.low);
+            const float x0 = plot_left + t0 * (plot_right - plot_left);
+            const float x1 = plot_left + t1 * (plot_right - plot_left);
+            draw->AddRectFilled(ImVec2(x0, plot_bottom + 1),
+                                ImVec2(x1 + 0.5f, plot_bottom + 1 + strip),
+                                to_u32(measure_color(measure, value, threshold, scale)));
         }
         below += strip + 1;
     }
-    for (int i = 0; i <= 5; ++i) {
-        const double q = 0.2 * i;
-        const float x = std::round(x_of(q));
+    // Fifths of [0, 1] for the shapes; quarters of a distance's range (0 on a tick).
+    const bool distance = is_distance(measure);
+    const int intervals = distance ? 4 : 5;
+    for (int i = 0; i <= intervals; ++i) {
+        const double v = scale.low + double(i) / intervals * (scale.high - scale.low);
+        const float x = std::round(x_of(v));
         draw->AddLine(ImVec2(x, below), ImVec2(x, below + 0.3f * f), kAxis);
-        const std::string label = format("%.1f", q);
+        const std::string label =
+            distance ? format("%g", std::abs(v) < 1e-9 ? 0.0 : v) : format("%.1f", v);
         const ImVec2 size = text_size(fonts.small, label);
         text(draw, fonts.small, ImVec2(x - 0.5f * size.x, below + 0.35f * f), kMutedText, label);
     }
+    // A distance's definition is in the legend's tooltip and the README: too long for the axis.
     const std::string caption =
-        (measure == ShapeMeasure::Quality ? "quality q" : std::string(label_of(measure))) + " = " +
-        std::string(measure_definition(measure));
+        distance
+            ? std::string(label_of(measure)) + " (" + std::string(scale.unit) + ")"
+            : (measure == ShapeMeasure::Quality ? "quality q" : std::string(label_of(measure))) +
+                  " = " + std::string(measure_definition(measure));
     const ImVec2 size = text_size(fonts.regular, caption);
     text(draw, fonts.regular, ImVec2(0.5f * (plot_left + plot_right - size.x), max.y - size.y),
          kText, caption);

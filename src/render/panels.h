@@ -47,19 +47,24 @@ void draw_view_title(ImDrawList* draw, ImVec2 min, ImVec2 max, const PanelMethod
 // The legend of quality shading on one line: the caption "triangle quality q" (or the measure
 // coloured by), a horizontal colour bar over [0, 1] with ticks under it (red below the
 // threshold, as on the meshes), and "red: q < threshold", centred in the rectangle.
+// A distance (core/metrics.h) shows its range `scale` in voxels, on its map, and for the signed
+// one which side is which, instead of the red threshold.
 void draw_quality_legend(ImDrawList* draw, ImVec2 min, ImVec2 max, float threshold,
-                         const FigureFonts& fonts, ShapeMeasure measure = ShapeMeasure::Quality);
+                         const FigureFonts& fonts, ShapeMeasure measure = ShapeMeasure::Quality,
+                         const MeasureScale& scale = {});
 // The size draw_quality_legend needs with regular text of `font_px` pixels.
 ImVec2 quality_legend_size(float font_px);
 
 // Quality histograms of all methods on the same axes: share of triangles (percent) per bin of
 // q over [0, 1] (kQualityBins bins), bars side by side per bin, a vertical line at each mean.
 // With `colormap_axis` a strip of the quality colours runs under the q axis (threshold red).
-// The metrics' quality histogram and mean are those of `measure` (the axis is named after it).
+// The metrics' quality histogram and mean are those of `measure` (the axis is named after it),
+// binned over `scale` (summarize_measure's bins).
 void draw_quality_histograms(ImDrawList* draw, ImVec2 min, ImVec2 max,
                              std::span<const PanelMethod> methods, const FigureFonts& fonts,
                              bool colormap_axis, float threshold,
-                             ShapeMeasure measure = ShapeMeasure::Quality);
+                             ShapeMeasure measure = ShapeMeasure::Quality,
+                             const MeasureScale& scale = {});
 
 // The metrics table: one column per method, one row per measure; `column_groups` = 2 puts
 // the rows into two side-by-side groups (half the height, for wide figures).

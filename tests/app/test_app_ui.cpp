@@ -18,6 +18,7 @@
 
 #include "app/headless.h"
 #include "app/view_renderer.h"
+#include "core/triangle_distances.h"
 #include "core/triangle_pick.h"
 #include "support/read_mesh.h"
 #include "support/real_data.h"
@@ -970,6 +971,79 @@ TEST(AppViews, ColourByAnotherMeasure) {
     EXPECT_NEAR(app.results().mc->summary(ShapeMeasure::Quality60).mean, core.quality60_mean, 1e-6);
     EXPECT_NEAR(app.results().frame->summary(ShapeMeasure::RadiusRatio).mean,
                 quality_stats(app.results().frame->mesh).radius_ratio_mean, 1e-6);
+}
+
+// Colour by distance: chosen in the combo, the worker measures both meshes (never the UI
+// thread), the views, the legend's range and the histograms show the core's numbers, and they
+// follow the iteration slider.
+TEST(AppViews, ColourByDistance) {
+    auto h = make_app(3);
+    ASSERT_TRUE(h->run_until(settled));
+    App& app = h->app();
+    h->tap(key::Q);
+    EXPECT_FALSE(app.results().distances); // nothing measured while a shape is shown
+    click_widget(*h, "color_by");
+    const UiRect combo = *app.widget_rect("color_by");
+    // The fourth line of the list: distance to the iso-surface.
+    h->click(combo.x0 + 10, combo.y1 + 3.5f * combo.height() + 4);
+    h->frame();
+    EXPECT_EQ(app.settings().view.color_by, "distance-iso");
+    EXPECT_EQ(app.view_renderer().measure(), ShapeMeasure::DistanceIso);
+    // Both meshes measured against the frame shown.
+    const auto measured = [](const App& a) {
+        const auto& d = a.results().distances;
+        return settled(a) && d && d->distances->measure == a.color_by() &&
+               d->net_geometry == a.results().frame->geometry &&
+               d->mc_geometry == a.results().mc->geometry;
+    };
+    ASSERT_TRUE(h->run_until(measured));
+    h->frame();
+    const JobResults& r = app.results();
+    const Volume& volume = *r.source->volume;
+    const std::vector<float> mc = signed_iso_distances(r.mc->mesh, volume, r.iso, InsideIs::Above);
+    const std::vector<float> net =
+        signed_iso_distances(r.frame->mesh, volume, r.iso, InsideIs::Above);
+    const auto same = [](std::span<const float> a, const std::vector<float>& b) {
+        return std::equal(a.begin(), a.end(), b.begin(), b.end());
+    };
+    EXPECT_TRUE(same(app.view_renderer().values(0), mc));
+    EXPECT_TRUE(same(app.view_renderer().values(1), net));
+    // The legend's range and the histograms: the core's scale and summaries.
+    const MeasureScale scale = distance_scale(ShapeMeasure::DistanceIso, mc, net);
+    EXPECT_EQ(app.color_scale().low, scale.low);
+    EXPECT_EQ(app.color_scale().high, scale.high);
+    EXPECT_TRUE(app.color_scale().diverging);
+    ASSERT_TRUE(app.shown_summary(0, ShapeMeasure::DistanceIso));
+    EXPECT_EQ(app.shown_summary(0, ShapeMeasure::DistanceIso)->histogram,
+              summarize_measure(mc, scale).histogram);
+    EXPECT_NEAR(app.shown_summary(1, ShapeMeasure::DistanceIso)->mean,
+                summarize_measure(net, scale).mean, 1e-9);
+    // A small sphere's Marching Cubes lies inside the exact sphere, on the trilinear
+    // surface's inner side on average: a small negative mean (voxels).
+    EXPECT_LT(app.shown_summary(0, ShapeMeasure::DistanceIso)->mean, 0.0);
+    EXPECT_GT(app.shown_summary(0, ShapeMeasure::DistanceIso)->mean, -0.05);
+
+    // The distance to the other mesh, then an earlier iteration: measured again for it.
+    app.settings().view.color_by = "distance-other";
+    app.show_iteration(1);
+    ASSERT_TRUE(h->run_until([&](const App& a) {
+        return measured(a) && a.results().frame->iteration == 1 &&
+               a.results().distances->iteration == 1;
+    }));
+    h->frame();
+    const PairDistances pair = pair_distances(ShapeMeasure::DistanceOther, r.mc->mesh,
+                                              r.frame->mesh, volume, r.iso, InsideIs::Above);
+    EXPECT_TRUE(same(app.view_renderer().values(0), pair.first));
+    EXPECT_TRUE(same(app.view_renderer().values(1), pair.second));
+    EXPECT_EQ(app.color_scale().high, pair.scale.high);
+    EXPECT_EQ(app.color_scale().low, 0.0f);
+    EXPECT_EQ(app.shown_summary(1, ShapeMeasure::DistanceOther)->histogram,
+              pair.second_summary.histogram);
+    // Back to q: the shapes' values again, no distance asked for.
+    app.settings().view.color_by = "q";
+    h->frame();
+    EXPECT_TRUE(same(app.view_renderer().values(1),
+                     std::vector<float>(r.frame->quality.begin(), r.frame->quality.end())));
 }
 
 // A click in a view picks the triangle under the mouse; the panel's numbers are the core's for

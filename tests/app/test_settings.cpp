@@ -5,6 +5,7 @@
 
 #include "app/path_completion.h"
 #include "app/settings.h"
+#include "core/names.h"
 #include "support/temp_folder.h"
 
 using namespace snert;
@@ -86,6 +87,16 @@ TEST(Settings, SkipsBadValuesAndUnknownKeys) {
     EXPECT_EQ(s.view.shading, Settings().view.shading);
     EXPECT_EQ(s.parameters.relax.epsilon, Settings().parameters.relax.epsilon);
     EXPECT_EQ(s.parameters.relax.gradient_sigma, Settings().parameters.relax.gradient_sigma);
+}
+
+// Every measure of core/names.h's table is a colour-by the settings keep, and only those.
+TEST(Settings, ColourByTakesEveryMeasureName) {
+    for (const Named<ShapeMeasure>& row : name_table(ShapeMeasure{})) {
+        const Settings s = parse_settings("color_by = " + std::string(row.name) + "\n");
+        EXPECT_EQ(s.view.color_by, row.name);
+    }
+    EXPECT_EQ(parse_settings("color_by = distance-iso\n").view.color_by, "distance-iso");
+    EXPECT_EQ(parse_settings("color_by = distance\n").view.color_by, Settings().view.color_by);
 }
 
 TEST(Settings, AnInputWithoutOptionsWritesNoOptionKeys) {

@@ -617,3 +617,54 @@ TEST(Worker, CompactnessFollowsTheJob) {
     ASSERT_TRUE(pump_until(worker, r, ended));
     EXPECT_EQ(r.compactness->net_curve.front().triangles, r.frame->mesh.triangle_count());
 }
+
+namespace {
+bool distances_of_frame(const JobResults& r, ShapeMeasure measure, int iteration) {
+    return r.frame && r.frame->iteration == iteration && r.distances &&
+           r.distances->distances->measure == measure && r.distances->iteration == iteration &&
+           r.distances->net_geometry == r.frame->geometry &&
+           r.distances->mc_geometry == r.mc->geometry;
+}
+} // namespace
+
+// Distances cost: none is measured until one is chosen; then the frame shown is served again
+// with them, each frame asked for after it gets its own (pair_distances of the two meshes), and
+// none once a shape is chosen again.
+TEST(Worker, DistancesOnlyWhileChosenAndForTheFrameShown) {
+    Worker worker;
+    JobResults r;
+    JobRequest job = phantom_job("sphere", 24, std::nullopt, 6);
+    job.options.relax.epsilon = 0.0f;
+    r.start(worker.request(job));
+    ASSERT_TRUE(pump_until(worker, r, finished));
+    ASSERT_TRUE(pump_until(worker, r, [](const JobResults& x) { return x.frame != nullptr; }));
+    EXPECT_FALSE(r.distances);
+
+    worker.set_color_by(ShapeMeasure::DistanceOther);
+    ASSERT_TRUE(pump_until(worker, r, [](const JobResults& x) {
+        return distances_of_frame(x, ShapeMeasure::DistanceOther, 6);
+    }));
+    const Volume& volume = *r.source->volume;
+    const PairDistances expected = pair_distances(ShapeMeasure::DistanceOther, r.mc->mesh,
+                                                  r.frame->mesh, volume, r.iso, InsideIs::Above);
+    EXPECT_EQ(r.distances->distances->first, expected.first);
+    EXPECT_EQ(r.distances->distances->second, expected.second);
+    EXPECT_EQ(r.distances->distances->scale.high, expected.scale.high);
+
+    worker.set_color_by(ShapeMeasure::DistanceIso);
+    worker.show_iteration(r.generation, 2);
+    ASSERT_TRUE(pump_until(worker, r, [](const JobResults& x) {
+        return distances_of_frame(x, ShapeMeasure::DistanceIso, 2);
+    }));
+    EXPECT_EQ(r.distances->distances->second,
+              signed_iso_distances(r.frame->mesh, volume, r.iso, InsideIs::Above));
+
+    // Back to a shape: frames come without distances.
+    worker.set_color_by(ShapeMeasure::Quality);
+    const auto before = r.distances->distances;
+    worker.show_iteration(r.generation, 4);
+    ASSERT_TRUE(pump_until(worker, r, [](const JobResults& x) {
+        return x.frame && x.frame->iteration == 4 && x.frame->metrics_complete;
+    }));
+    EXPECT_EQ(r.distances->distances, before);
+}

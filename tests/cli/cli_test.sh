@@ -184,6 +184,10 @@ expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phanto
 if "$SNERT" render --help >/dev/null 2>&1; then
     expect_exit 0 "equal triangle count: 400" -- "$SNERT" render phantom:sphere --size 24 --iterations 5 --equal-count 400 --width 400 --height 300 --gl osmesa --out "$tmp/eq.png"
     [ -s "$tmp/eq.png" ] || fail "render --equal-count wrote no picture"
+    # Colouring by a distance: to the iso-surface also for one mesh; to the other mesh needs both.
+    expect_exit 0 "wrote" -- "$SNERT" render phantom:sphere --size 24 --iterations 3 --layout mc --shading quality --color-by distance-iso --width 400 --height 300 --gl osmesa --out "$tmp/dist_mc.png"
+    expect_exit 2 "distance-other needs both meshes" -- "$SNERT" render phantom:sphere --layout net --color-by distance-other --out "$tmp/dist_net.png"
+    [ -e "$tmp/dist_net.png" ] && fail "a refused distance render left a file"
 fi
 expect_exit 0 "" -- "$SNERT" compare phantom:torus --size 20 --mode gradient --iterations 3
 grep -q "gradient" "$tmp/out" || fail "--mode gradient row missing"

@@ -60,3 +60,33 @@ TEST(Colormap, HighlightAndMethodColoursStandApart) {
                           method_color(snert::Method::Snert)),
               0.5f);
 }
+
+// The diverging map of signed distances: blue below, a light grey at the middle (0), red
+// above, both halves darker the farther from the middle.
+TEST(Colormap, CoolWarmDivergesFromALightMiddle) {
+    const glm::vec3 low = cool_warm(0.0f), middle = cool_warm(0.5f), high = cool_warm(1.0f);
+    EXPECT_GT(low.b, low.r);
+    EXPECT_GT(high.r, high.b);
+    EXPECT_NEAR(middle.r, middle.b, 0.01f);
+    EXPECT_GT(luminance(middle), luminance(cool_warm(0.25f)));
+    EXPECT_GT(luminance(cool_warm(0.25f)), luminance(low));
+    EXPECT_GT(luminance(middle), luminance(cool_warm(0.75f)));
+    EXPECT_GT(luminance(cool_warm(0.75f)), luminance(high));
+    EXPECT_EQ(cool_warm(std::nanf("")), middle);
+    EXPECT_EQ(cool_warm(-2.0f), low);
+    EXPECT_EQ(cool_warm_rgba8(256).size(), 256u * 4u);
+}
+
+// A measure's colour over its scale: a distance on its own range, without the poor red.
+TEST(Colormap, MeasureColourFollowsTheScale) {
+    const snert::MeasureScale signed_scale{-0.1f, 0.1f, true, "voxels"};
+    EXPECT_EQ(measure_color(snert::ShapeMeasure::DistanceIso, 0.0f, 0.25f, signed_scale),
+              cool_warm(0.5f));
+    EXPECT_EQ(measure_color(snert::ShapeMeasure::DistanceIso, -0.1f, 0.25f, signed_scale),
+              cool_warm(0.0f));
+    const snert::MeasureScale far{0.0f, 2.0f, false, "voxels"};
+    EXPECT_EQ(measure_color(snert::ShapeMeasure::DistanceOther, 0.1f, 0.25f, far), viridis(0.05f));
+    // The shapes keep the red under the threshold.
+    EXPECT_EQ(measure_color(snert::ShapeMeasure::Quality, 0.1f, 0.25f, {}), kPoorQualityColor);
+    EXPECT_EQ(measure_color(snert::ShapeMeasure::Quality, 0.5f, 0.25f, {}), viridis(0.5f));
+}
