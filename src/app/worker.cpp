@@ -179,7 +179,8 @@ std::uint64_t Worker::request(JobRequest job) {
     std::lock_guard lock(mutex_);
     pending_job_ = std::move(job);
     pending_generation_ = ++latest_generation_;
-    view_ = {pending_generation_, kLive, false}; // a new job is followed live until told otherwise
+    view_ = {pending_generation_, kLive, false,
+             ++view_serial_}; // a new job is followed live until told otherwise
     job_stop_.request_stop(); // the running job throws Cancelled at its next poll
     wake_.notify_one();
     return pending_generation_;
@@ -188,7 +189,7 @@ std::uint64_t Worker::request(JobRequest job) {
 void Worker::show_iteration(std::uint64_t generation, int iteration) {
     std::lock_guard lock(mutex_);
     if (generation != latest_generation_) return;
-    view_ = {generation, iteration < 0 ? kLive : iteration, true};
+    view_ = {generation, iteration < 0 ? kLive : iteration, true, ++view_serial_};
     wake_.notify_one();
 }
 
@@ -199,6 +200,7 @@ void Worker::set_color_by(ShapeMeasure measure) {
     // A distance is measured with the frame: serve the one shown again.
     if (is_distance(measure) && view_.generation == latest_generation_ && view_.generation != 0) {
         view_.pending = true;
+        view_.serial = ++view_serial_;
         wake_.notify_one();
     }
 }
@@ -699,8 +701,7 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
     }
     if (view.pending) {
         std::lock_guard lock(mutex_);
-        if (view_.generation == view.generation && view_.iteration == view.iteration)
-            view_.pending = false;
+        if (view_.serial == view.serial) view_.pending = false;
     }
 }
 

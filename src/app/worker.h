@@ -235,6 +235,9 @@ class Worker {
         std::uint64_t generation = 0;
         int iteration = kLive;
         bool pending = false;
+        // Bumped by every request: a request made while a frame is being served (a new colour
+        // measure, say) must not be cleared as done by that frame.
+        std::uint64_t serial = 0;
     };
 
     void run(std::stop_token thread_stop);
@@ -277,6 +280,7 @@ class Worker {
     std::uint64_t latest_generation_ = 0;
     std::stop_source job_stop_; // of the running job (and its continuation)
     ViewRequest view_;
+    std::uint64_t view_serial_ = 0;
     std::optional<std::pair<std::uint64_t, int>> continue_request_;
     std::optional<std::uint64_t> compactness_request_;
     ShapeMeasure color_by_ = ShapeMeasure::Quality;

@@ -302,6 +302,8 @@ TriangleMeasures triangle_measures(const Mesh& mesh) {
     m.quality.resize(n);
     m.quality60.resize(n);
     m.radius_ratio.resize(n);
+    m.min_angle.resize(n);
+    m.max_angle.resize(n);
     for_each_chunk(n, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t t = b; t < e; ++t) {
             const std::uint32_t* i = &mesh.indices[3 * t];
@@ -310,6 +312,8 @@ TriangleMeasures triangle_measures(const Mesh& mesh) {
             m.quality[t] = s.quality;
             m.quality60[t] = s.quality60;
             m.radius_ratio[t] = s.radius_ratio;
+            m.min_angle[t] = s.min_angle;
+            m.max_angle[t] = s.max_angle;
         }
     });
     return m;

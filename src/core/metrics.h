@@ -85,6 +85,7 @@ MeasureScale measure_scale(ShapeMeasure measure);
 // All three shape measures per triangle in one pass, in triangle order (0 for degenerate).
 struct TriangleMeasures {
     std::vector<float> quality, quality60, radius_ratio;
+    std::vector<float> min_angle, max_angle; // degrees (0 and 180 for a degenerate triangle)
     // Empty for a distance (not a shape).
     std::span<const float> of(ShapeMeasure measure) const;
 };

@@ -23,26 +23,6 @@ void check_indices(const Mesh& mesh) {
 
 } // namespace
 
-TriangleFields triangle_fields(const Mesh& mesh) {
-    check_indices(mesh);
-    const std::size_t n = mesh.triangle_count();
-    TriangleFields fields;
-    fields.quality.resize(n);
-    fields.min_angle.resize(n);
-    fields.max_angle.resize(n);
-    for_each_chunk(n, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
-        for (std::size_t t = begin; t < end; ++t) {
-            const std::uint32_t* i = &mesh.indices[3 * t];
-            const TriangleShape s =
-                triangle_shape(mesh.positions[i[0]], mesh.positions[i[1]], mesh.positions[i[2]]);
-            fields.quality[t] = s.quality;
-            fields.min_angle[t] = s.min_angle;
-            fields.max_angle[t] = s.max_angle;
-        }
-    });
-    return fields;
-}
-
 std::vector<float> centroid_distances(const Mesh& world_mesh, const Volume& volume,
                                       const DistanceFunction& reference) {
     check_indices(world_mesh);

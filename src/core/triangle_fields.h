@@ -1,7 +1,6 @@
-// Per-triangle values, as an FE export carries them for a viewer to colour by (ParaView's cell
-// data): the quality, the smallest and the largest angle, and the distance of the triangle's
-// centroid to the accuracy reference (the face-centre accuracy of metrics.h, triangle by
-// triangle).
+// The distance of each triangle's centroid to the accuracy reference (the face-centre accuracy
+// of metrics.h, triangle by triangle), as an FE export carries it for a viewer to colour by
+// (ParaView's cell data) beside the shape measures of metrics.h's triangle_measures.
 #pragma once
 
 #include <vector>
@@ -11,15 +10,6 @@
 #include "volume.h"
 
 namespace snert {
-
-struct TriangleFields {
-    std::vector<float> quality;   // smallest / largest angle (0 when degenerate)
-    std::vector<float> min_angle; // degrees (0 when degenerate)
-    std::vector<float> max_angle; // degrees (180 when degenerate)
-};
-// One value per triangle of `mesh`, from triangle_shape(). Throws std::invalid_argument for a
-// bad index.
-TriangleFields triangle_fields(const Mesh& mesh);
 
 // |reference| at each triangle's centroid, in voxel units: `world_mesh` is taken back to
 // `volume`'s index space, where the reference (first-order or analytic, pipeline.h) measures.

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "atomic_file.h"
-#include "core/triangle_fields.h"
+#include "core/metrics.h"
 
 namespace snert {
 namespace {
@@ -205,7 +205,7 @@ void write_vtk(std::ostream& os, const Mesh& mesh, const MeshWriteOptions& optio
     out << "POLYGONS " << mesh.triangle_count() << ' ' << 4 * mesh.triangle_count() << '\n';
     write_counted_triangles(out, mesh.indices);
     if (mesh.triangle_count() == 0) return;
-    const TriangleFields fields = triangle_fields(mesh);
+    const TriangleMeasures fields = triangle_measures(mesh);
     out << "CELL_DATA " << mesh.triangle_count() << '\n';
     write_vtk_cell_array(out, "quality", fields.quality);
     write_vtk_cell_array(out, "min_angle", fields.min_angle);

@@ -152,8 +152,8 @@ TEST(FeReadiness, MeasuredByThePipeline) {
     EXPECT_TRUE(std::isfinite(m.fe.aspect_ratio_max));
 }
 
-TEST(TriangleFields, AnglesOfKnownTriangles) {
-    const TriangleFields f = triangle_fields(four_triangles());
+TEST(TriangleMeasures, AnglesOfKnownTriangles) {
+    const TriangleMeasures f = triangle_measures(four_triangles());
     const double smallest[] = {60, 10, 20, 40}, largest[] = {60, 90, 140, 100};
     ASSERT_EQ(f.quality.size(), 4u);
     for (std::size_t t = 0; t < 4; ++t) {

@@ -454,7 +454,7 @@ TEST_F(MeshIo, VtkCellDataForParaView) {
         options.distance.push_back(0.001f * float(t % 997));
     write_mesh(mesh, path("c.vtk"), options);
     const VtkCellData cells = read_vtk_cell_data(path("c.vtk"));
-    const TriangleFields fields = triangle_fields(mesh);
+    const TriangleMeasures fields = triangle_measures(mesh);
     ASSERT_EQ(cells.size(), 4u);
     EXPECT_EQ(cells.at("quality"), fields.quality); // exact: shortest float text
     EXPECT_EQ(cells.at("min_angle"), fields.min_angle);
