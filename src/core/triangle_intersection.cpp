@@ -438,9 +438,16 @@ void check_indices(const Mesh& mesh) {
 
 } // namespace
 
-SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
+namespace {
+
+// Every intersecting pair (t, u), t < u; with `subject`, only pairs with a triangle marked in it
+// (each examined from that triangle; from the smaller one when both are marked).
+SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::uint8_t>* subject,
+                                     std::size_t max_pairs) {
     check_indices(mesh);
     const std::size_t triangles = mesh.triangle_count();
+    if (subject && subject->size() != triangles)
+        throw std::invalid_argument("intersections: one mark per triangle expected");
     auto corners = [&](std::size_t t, glm::vec3 out[3]) {
         for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
     };
@@ -464,6 +471,7 @@ SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
     for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t t = b; t < e; ++t) first[t] = grid.cell_of(boxes[t].lo);
     });
+    auto marked = [&](std::size_t t) { return subject == nullptr || (*subject)[t] != 0; };
 
     struct Partial {
         std::size_t count = 0;
@@ -474,14 +482,14 @@ SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
         Partial& part = partials[chunk];
         std::vector<std::uint32_t> hits; // partners of one triangle, reused
         for (std::size_t t = b; t < e; ++t) {
-            if (!valid[t]) continue;
+            if (!valid[t] || !marked(t)) continue;
             glm::vec3 p[3], q[3];
             corners(t, p);
             hits.clear();
             for_each_cell(grid, boxes[t], [&](glm::ivec3 cell, std::size_t c) {
                 for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
                     const std::uint32_t u = grid.items[k];
-                    if (u <= t || glm::max(first[t], first[u]) != cell ||
+                    if (u == t || (u < t && marked(u)) || glm::max(first[t], first[u]) != cell ||
                         !boxes_overlap(boxes[t], boxes[u]))
                         continue;
                     corners(u, q);
@@ -490,21 +498,32 @@ SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
             });
             part.count += hits.size();
             std::sort(hits.begin(), hits.end());
-            for (std::uint32_t u : hits) {
-                if (part.pairs.size() >= max_pairs) break;
-                part.pairs.emplace_back(std::uint32_t(t), u);
-            }
+            for (std::uint32_t u : hits)
+                part.pairs.emplace_back(std::min(std::uint32_t(t), u),
+                                        std::max(std::uint32_t(t), u));
+            if (subject == nullptr && part.pairs.size() > max_pairs) part.pairs.resize(max_pairs);
         }
     });
     SelfIntersections result;
     for (const Partial& part : partials) {
         result.count += part.count;
-        for (const auto& pair : part.pairs) {
-            if (result.pairs.size() >= max_pairs) break;
-            result.pairs.push_back(pair);
-        }
+        result.pairs.insert(result.pairs.end(), part.pairs.begin(), part.pairs.end());
     }
+    std::sort(result.pairs.begin(), result.pairs.end());
+    if (result.pairs.size() > max_pairs) result.pairs.resize(max_pairs);
     return result;
+}
+
+} // namespace
+
+SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
+    return find_intersections(mesh, nullptr, max_pairs);
+}
+
+SelfIntersections intersections_involving(const Mesh& mesh,
+                                          const std::vector<std::uint8_t>& subject,
+                                          std::size_t max_pairs) {
+    return find_intersections(mesh, &subject, max_pairs);
 }
 
 std::size_t count_self_intersections(const Mesh& mesh) {
