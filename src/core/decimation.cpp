@@ -120,21 +120,26 @@ struct Change {
     std::vector<std::uint8_t> touched; // per vertex
 };
 
-Change change_of(const Indices& c, const Indices& from, const TriangleSet& from_set,
-                 std::size_t vertex_count) {
+// `c` holds first the `kept` triangles of `from` left out of the collapses, then what the
+// collapses made of `changed`, the rest of `from`: only those can be new or gone.
+Change change_of(const Indices& c, std::size_t kept, const Indices& changed,
+                 const TriangleSet& from_set, std::size_t vertex_count) {
     Change ch;
     ch.is_new.assign(c.size() / 3, 0);
     ch.touched.assign(vertex_count, 0);
-    for (std::size_t t = 0; t < ch.is_new.size(); ++t) {
+    Indices made;
+    made.reserve(c.size() - 3 * kept);
+    for (std::size_t t = kept; t < ch.is_new.size(); ++t) {
         const std::uint32_t* i = &c[3 * t];
+        made.insert(made.end(), i, i + 3);
         if (from_set.contains(triangle_key(i))) continue;
         ch.is_new[t] = 1;
         for (int k = 0; k < 3; ++k) ch.touched[i[k]] = 1;
     }
-    const TriangleSet kept = triangle_set(c);
-    for (std::size_t t = 0; t < from.size(); t += 3)
-        if (!kept.contains(triangle_key(&from[t])))
-            for (int k = 0; k < 3; ++k) ch.touched[from[t + k]] = 1;
+    const TriangleSet made_set = triangle_set(made);
+    for (std::size_t t = 0; t < changed.size(); t += 3)
+        if (!made_set.contains(triangle_key(&changed[t])))
+            for (int k = 0; k < 3; ++k) ch.touched[changed[t + k]] = 1;
     return ch;
 }
 
@@ -272,11 +277,11 @@ void check_fans(const Indices& c, const Change& ch, Verdict& v) {
 // components `before` counts). Everything in `from` passed already, so only what changed is
 // examined: new triangles for flips, degeneracy and intersections (against all triangles, near
 // ones found through a grid), touched vertices for edges and fans.
-Verdict check(const Mesh& trial, const Reference& ref, const Indices& from,
-              const TriangleSet& from_set, const Components& before) {
+Verdict check(const Mesh& trial, std::size_t kept, const Indices& changed, const Reference& ref,
+              const Indices& from, const TriangleSet& from_set, const Components& before) {
     Verdict v;
     const Indices& c = trial.indices;
-    const Change ch = change_of(c, from, from_set, trial.positions.size());
+    const Change ch = change_of(c, kept, changed, from_set, trial.positions.size());
     for (std::size_t t = 0; t < ch.is_new.size(); ++t) {
         if (!ch.is_new[t]) continue;
         const std::uint32_t* i = &c[3 * t];
@@ -415,7 +420,8 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             if (simplified.size() >= free_part.size()) break; // nothing more to collapse
             work.indices = frozen_part;
             work.indices.insert(work.indices.end(), simplified.begin(), simplified.end());
-            const Verdict verdict = check(work, ref, current, current_set, before);
+            const Verdict verdict =
+                check(work, frozen_part.size() / 3, free_part, ref, current, current_set, before);
             if (verdict.ok()) {
                 current = work.indices;
                 report.error += step_error * scale;
@@ -431,6 +437,11 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             if (freeze(verdict.vertices) == 0) break;
         }
         if (accepted) {
+            // What was frozen was frozen against this step's collapses; the next step collapses
+            // elsewhere and differently, so every region gets its chance again (freezing for
+            // good left half of a scan's mesh untouchable: the rims of the frozen patches are
+            // locked too).
+            std::fill(frozen.begin(), frozen.end(), 0);
             step = share;
             continue;
         }

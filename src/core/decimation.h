@@ -59,7 +59,7 @@ struct DecimationReport {
     // What the refused tries broke (summed over them): triangles flagged by each rule.
     std::size_t refused_topology = 0, refused_intersections = 0, refused_flips = 0,
                 refused_degenerate = 0;
-    std::size_t frozen_vertices = 0; // vertices kept out of the collapses in the end
+    std::size_t frozen_vertices = 0; // vertices kept out of the last step's collapses
     bool stalled = false; // stopped short of the goal: no collapse was possible or allowed
     // Euler characteristic of the result minus the input's: +2 for each tunnel (handle) narrower
     // than the deviation that closed (0 on a sphere; noisy scans have many small tunnels).
