@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <unordered_set>
 #include <utility>
 
 #include <meshoptimizer.h>
@@ -32,8 +31,12 @@ struct TriangleKey {
 };
 struct TriangleKeyHash {
     std::size_t operator()(const TriangleKey& k) const {
-        return std::hash<std::uint64_t>{}(triangle_key_part(k.a, k.b) * 0x9E3779B97F4A7C15ull ^
-                                          k.c);
+        // Mixed so that the low bits (the slot) depend on every index.
+        std::uint64_t h =
+            (triangle_key_part(k.a, k.b) ^ (std::uint64_t(k.c) << 21)) * 0x9E3779B97F4A7C15ull;
+        h ^= h >> 29;
+        h *= 0xBF58476D1CE4E5B9ull;
+        return std::size_t(h ^ (h >> 32));
     }
 };
 TriangleKey triangle_key(const std::uint32_t* t) {
@@ -104,11 +107,43 @@ void mark_boundary(const Indices& indices, std::vector<std::uint8_t>& boundary) 
 }
 
 // The triangles of one mesh as a set of oriented keys.
-using TriangleSet = std::unordered_set<TriangleKey, TriangleKeyHash>;
+// A set of triangles, open addressing with linear probing: built and probed for every triangle of
+// every try, where a node-based set's allocations would cost more than the checks themselves.
+class TriangleSet {
+  public:
+    TriangleSet() = default;
+    explicit TriangleSet(std::size_t count) {
+        std::size_t size = 16;
+        while (size < 2 * count) size *= 2;
+        slots_.assign(size, kEmpty);
+    }
+    void insert(const TriangleKey& k) {
+        for (std::size_t s = slot_of(k);; s = (s + 1) & (slots_.size() - 1)) {
+            if (slots_[s] == k) return;
+            if (slots_[s] == kEmpty) {
+                slots_[s] = k;
+                return;
+            }
+        }
+    }
+    bool contains(const TriangleKey& k) const {
+        if (slots_.empty()) return false;
+        for (std::size_t s = slot_of(k);; s = (s + 1) & (slots_.size() - 1)) {
+            if (slots_[s] == k) return true;
+            if (slots_[s] == kEmpty) return false;
+        }
+    }
+
+  private:
+    static constexpr TriangleKey kEmpty{~0u, ~0u, ~0u}; // no triangle has three equal corners
+    std::size_t slot_of(const TriangleKey& k) const {
+        return TriangleKeyHash{}(k) & (slots_.size() - 1);
+    }
+    std::vector<TriangleKey> slots_;
+};
 
 TriangleSet triangle_set(const Indices& c) {
-    TriangleSet set;
-    set.reserve(c.size() / 3);
+    TriangleSet set(c.size() / 3);
     for (std::size_t t = 0; t < c.size(); t += 3) set.insert(triangle_key(&c[t]));
     return set;
 }
@@ -278,12 +313,22 @@ void check_fans(const Indices& c, const Change& ch, Verdict& v) {
 // examined: new triangles for flips, degeneracy and intersections (against all triangles, near
 // ones found through a grid), touched vertices for edges and fans.
 Verdict check(const Mesh& trial, std::size_t kept, const Indices& changed, const Reference& ref,
-              const Indices& from, const TriangleSet& from_set, const Components& before) {
+              const Indices& from, const TriangleSet& from_set, const TriangleSet* previous,
+              const Components& before) {
     Verdict v;
     const Indices& c = trial.indices;
     const Change ch = change_of(c, kept, changed, from_set, trial.positions.size());
+    // What a refused try of this step already examined is not examined again: a triangle's
+    // flip and shape, and whether two triangles intersect, depend on their corners alone (no
+    // vertex moves), and whatever failed then was frozen and cannot come back. So only the
+    // triangles missing from the previous try's candidate are examined (on the first try, the
+    // new ones: those of `from` passed before).
+    std::vector<std::uint8_t> examine = ch.is_new;
+    if (previous)
+        for (std::size_t t = 0; t < examine.size(); ++t)
+            examine[t] = !previous->contains(triangle_key(&c[3 * t]));
     for (std::size_t t = 0; t < ch.is_new.size(); ++t) {
-        if (!ch.is_new[t]) continue;
+        if (!ch.is_new[t] || !examine[t]) continue;
         const std::uint32_t* i = &c[3 * t];
         const glm::vec3 a = trial.positions[i[0]], b = trial.positions[i[1]],
                         d = trial.positions[i[2]];
@@ -300,8 +345,9 @@ Verdict check(const Mesh& trial, std::size_t kept, const Indices& changed, const
     // Only pairs with a new triangle: the others were there before and passed (or, present in
     // the input, are not the decimation's doing).
     const SelfIntersections x =
-        intersections_involving(trial, ch.is_new, std::numeric_limits<std::size_t>::max());
+        intersections_involving(trial, examine, std::numeric_limits<std::size_t>::max());
     for (const auto& [s, t] : x.pairs) {
+        if (!ch.is_new[s] && !ch.is_new[t]) continue;
         ++v.intersections;
         for (const std::uint32_t u : {s, t})
             if (ch.is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
@@ -362,6 +408,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
     const float scale = meshopt_simplifyScale(xyz, vertex_count, sizeof(glm::vec3));
     const double share = std::clamp(options.step_share, 1e-3, 1.0);
     double step = share; // of the triangles one step removes; halved after a failed step
+    int shrinks = 0;     // halvings since the last accepted step
     std::vector<std::uint8_t> frozen(vertex_count, 0);
     Mesh work;
     work.positions = mesh.positions;
@@ -389,6 +436,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
         const std::size_t n = current.size() / 3;
         const Components before = components(current, vertex_count);
         const TriangleSet current_set = triangle_set(current);
+        TriangleSet previous; // the candidate of the step's last refused try
         if (!error_only && n <= target) break;
         const float error_left = options.max_error - report.error;
         if (!(error_left > 0.0f)) break;
@@ -420,8 +468,8 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             if (simplified.size() >= free_part.size()) break; // nothing more to collapse
             work.indices = frozen_part;
             work.indices.insert(work.indices.end(), simplified.begin(), simplified.end());
-            const Verdict verdict =
-                check(work, frozen_part.size() / 3, free_part, ref, current, current_set, before);
+            const Verdict verdict = check(work, frozen_part.size() / 3, free_part, ref, current,
+                                          current_set, attempt > 0 ? &previous : nullptr, before);
             if (verdict.ok()) {
                 current = work.indices;
                 report.error += step_error * scale;
@@ -435,6 +483,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             report.refused_flips += verdict.flips;
             report.refused_degenerate += verdict.degenerate;
             if (freeze(verdict.vertices) == 0) break;
+            previous = triangle_set(work.indices);
         }
         if (accepted) {
             // What was frozen was frozen against this step's collapses; the next step collapses
@@ -443,11 +492,12 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             // locked too).
             std::fill(frozen.begin(), frozen.end(), 0);
             step = share;
+            shrinks = 0;
             continue;
         }
         // Not even with the trouble spots frozen: try a smaller step from the same mesh.
         step *= 0.5;
-        if (double(n) * step < 1.0) break;
+        if (double(n) * step < 1.0 || ++shrinks > options.max_shrinks) break;
     }
     report.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), 1));
     Decimated result{compact(mesh, current), report};
