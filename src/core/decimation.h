@@ -20,6 +20,10 @@
 //   - no flipped triangle: a new triangle's normal must agree with the input's vertex normals at
 //     its corners (positive dot product with their sum);
 //   - no new degenerate triangle (metrics.h's kDegenerateHeightRatio).
+// The rest passed before, so only what a step changed is examined: its new triangles (flips,
+// shape, and intersections against the triangles near them, through a grid), and the edges and
+// fans of the vertices of triangles that came or went; a retry examines only the triangles its
+// refused predecessor did not have (vertices never move, so the verdicts on the others stand).
 // A step that breaks a rule is refused; the triangles around what broke it are frozen (kept as
 // they are, their ring locked) and the step is tried again without them; after
 // DecimationOptions::max_retries refusals, a step half as large is tried (at most max_shrinks
