@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <unordered_set>
 #include <utility>
 
 #include <meshoptimizer.h>
@@ -32,8 +31,12 @@ struct TriangleKey {
 };
 struct TriangleKeyHash {
     std::size_t operator()(const TriangleKey& k) const {
-        return std::hash<std::uint64_t>{}(triangle_key_part(k.a, k.b) * 0x9E3779B97F4A7C15ull ^
-                                          k.c);
+        // Mixed so that the low bits (the slot) depend on every index.
+        std::uint64_t h =
+            (triangle_key_part(k.a, k.b) ^ (std::uint64_t(k.c) << 21)) * 0x9E3779B97F4A7C15ull;
+        h ^= h >> 29;
+        h *= 0xBF58476D1CE4E5B9ull;
+        return std::size_t(h ^ (h >> 32));
     }
 };
 TriangleKey triangle_key(const std::uint32_t* t) {
@@ -46,7 +49,6 @@ void mark_boundary(const std::vector<std::uint32_t>& indices, std::vector<std::u
 
 // What the result is checked against: facts of the input mesh.
 struct Reference {
-    std::unordered_set<TriangleKey, TriangleKeyHash> triangles; // the input's, oriented
     std::vector<glm::vec3> normals;     // area-weighted vertex normals of the input
     std::vector<std::uint8_t> boundary; // 1: the vertex is on an input boundary edge
     bool manifold = false, oriented = false;
@@ -57,10 +59,8 @@ Reference make_reference(const Mesh& mesh) {
     Reference r;
     r.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
     r.boundary.assign(mesh.positions.size(), 0);
-    r.triangles.reserve(mesh.triangle_count());
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
         const std::uint32_t* i = &mesh.indices[3 * t];
-        r.triangles.insert(triangle_key(i));
         const glm::vec3 n = glm::cross(mesh.positions[i[1]] - mesh.positions[i[0]],
                                        mesh.positions[i[2]] - mesh.positions[i[0]]);
         for (int k = 0; k < 3; ++k) r.normals[i[k]] += n;
@@ -106,15 +106,87 @@ void mark_boundary(const Indices& indices, std::vector<std::uint8_t>& boundary) 
     }
 }
 
-// Edges of three or more triangles, edges used twice in one direction, new boundary edges; and
-// the Euler characteristic V - E + F of the candidate.
-void check_edges(const Indices& c, const Reference& ref, Verdict& v) {
+// The triangles of one mesh as a set of oriented keys.
+// A set of triangles, open addressing with linear probing: built and probed for every triangle of
+// every try, where a node-based set's allocations would cost more than the checks themselves.
+class TriangleSet {
+  public:
+    TriangleSet() = default;
+    explicit TriangleSet(std::size_t count) {
+        std::size_t size = 16;
+        while (size < 2 * count) size *= 2;
+        slots_.assign(size, kEmpty);
+    }
+    void insert(const TriangleKey& k) {
+        for (std::size_t s = slot_of(k);; s = (s + 1) & (slots_.size() - 1)) {
+            if (slots_[s] == k) return;
+            if (slots_[s] == kEmpty) {
+                slots_[s] = k;
+                return;
+            }
+        }
+    }
+    bool contains(const TriangleKey& k) const {
+        if (slots_.empty()) return false;
+        for (std::size_t s = slot_of(k);; s = (s + 1) & (slots_.size() - 1)) {
+            if (slots_[s] == k) return true;
+            if (slots_[s] == kEmpty) return false;
+        }
+    }
+
+  private:
+    static constexpr TriangleKey kEmpty{~0u, ~0u, ~0u}; // no triangle has three equal corners
+    std::size_t slot_of(const TriangleKey& k) const {
+        return TriangleKeyHash{}(k) & (slots_.size() - 1);
+    }
+    std::vector<TriangleKey> slots_;
+};
+
+TriangleSet triangle_set(const Indices& c) {
+    TriangleSet set(c.size() / 3);
+    for (std::size_t t = 0; t < c.size(); t += 3) set.insert(triangle_key(&c[t]));
+    return set;
+}
+
+// What a try changed, against the mesh it was made from: the candidate's new triangles, and the
+// vertices of every triangle that came or went. Only there can an edge or a fan have changed.
+struct Change {
+    std::vector<std::uint8_t> is_new;  // per candidate triangle
+    std::vector<std::uint8_t> touched; // per vertex
+};
+
+// `c` holds first the `kept` triangles of `from` left out of the collapses, then what the
+// collapses made of `changed`, the rest of `from`: only those can be new or gone.
+Change change_of(const Indices& c, std::size_t kept, const Indices& changed,
+                 const TriangleSet& from_set, std::size_t vertex_count) {
+    Change ch;
+    ch.is_new.assign(c.size() / 3, 0);
+    ch.touched.assign(vertex_count, 0);
+    Indices made;
+    made.reserve(c.size() - 3 * kept);
+    for (std::size_t t = kept; t < ch.is_new.size(); ++t) {
+        const std::uint32_t* i = &c[3 * t];
+        made.insert(made.end(), i, i + 3);
+        if (from_set.contains(triangle_key(i))) continue;
+        ch.is_new[t] = 1;
+        for (int k = 0; k < 3; ++k) ch.touched[i[k]] = 1;
+    }
+    const TriangleSet made_set = triangle_set(made);
+    for (std::size_t t = 0; t < changed.size(); t += 3)
+        if (!made_set.contains(triangle_key(&changed[t])))
+            for (int k = 0; k < 3; ++k) ch.touched[changed[t + k]] = 1;
+    return ch;
+}
+
+// Edges of three or more triangles, edges used twice in one direction, new boundary edges;
+// among the edges between touched vertices (the only ones whose triangles changed).
+void check_edges(const Indices& c, const Change& ch, const Reference& ref, Verdict& v) {
     std::vector<HalfEdge> edges;
-    edges.reserve(c.size());
     for (std::size_t t = 0; t < c.size(); t += 3)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = c[t + k], b = c[t + (k + 1) % 3];
-            if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
+            if (a != b && ch.touched[a] && ch.touched[b])
+                edges.push_back({std::min(a, b), std::max(a, b), a < b});
         }
     std::sort(edges.begin(), edges.end());
     for (std::size_t i = 0; i < edges.size();) {
@@ -134,14 +206,19 @@ void check_edges(const Indices& c, const Reference& ref, Verdict& v) {
     }
 }
 
-// The connected components of a mesh (over shared vertices), with the Euler characteristic
-// V - E + F and the triangle count of each. A collapse never joins two components, so a
-// candidate's triangles are counted in the components of the mesh it was made from.
+// The connected components of a mesh (over shared vertices) and the triangle count of each. A
+// collapse never joins two components, so a candidate's triangles are counted in the components
+// of the mesh it was made from.
 struct Components {
     std::vector<std::uint32_t> of_vertex; // component of each vertex (unused: any)
-    std::vector<long> euler;
     std::vector<std::size_t> triangles;
 };
+
+// Fills `triangles` of `comp` for the mesh `c` (whose vertices it labels).
+void count_components(const Indices& c, Components& comp) {
+    std::fill(comp.triangles.begin(), comp.triangles.end(), 0);
+    for (std::size_t t = 0; t < c.size(); t += 3) ++comp.triangles[comp.of_vertex[c[t]]];
+}
 
 Components components(const Indices& c, std::size_t vertex_count) {
     std::vector<std::uint32_t> parent(vertex_count);
@@ -163,48 +240,33 @@ Components components(const Indices& c, std::size_t vertex_count) {
         if (id[r] == ~0u) id[r] = count++;
         comp.of_vertex[i] = id[r];
     }
-    comp.euler.assign(count, 0);
     comp.triangles.assign(count, 0);
+    count_components(c, comp);
     return comp;
 }
 
-// Fills `euler` and `triangles` of `comp` for the mesh `c` (whose vertices it labels).
-void count_components(const Indices& c, Components& comp) {
-    std::fill(comp.euler.begin(), comp.euler.end(), 0);
-    std::fill(comp.triangles.begin(), comp.triangles.end(), 0);
-    std::vector<std::uint8_t> seen(comp.of_vertex.size(), 0);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-    edges.reserve(c.size());
-    for (std::size_t t = 0; t < c.size(); t += 3) {
-        const std::uint32_t k = comp.of_vertex[c[t]];
-        ++comp.triangles[k];
-        ++comp.euler[k];
-        for (int e = 0; e < 3; ++e) {
-            const std::uint32_t a = c[t + e], b = c[t + (e + 1) % 3];
-            if (!seen[a]) {
-                ++comp.euler[k];
-                seen[a] = 1;
-            }
-            if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
-        }
-    }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const auto& e : edges) --comp.euler[comp.of_vertex[e.first]];
-}
-
 // A vertex is manifold when the far edges of its triangles (its link) form one path or cycle.
-void check_fans(const Indices& c, std::size_t vertex_count, Verdict& v) {
-    std::vector<std::uint32_t> start(vertex_count + 1, 0);
-    for (const std::uint32_t i : c) ++start[i + 1];
-    for (std::size_t i = 0; i < vertex_count; ++i) start[i + 1] += start[i];
-    std::vector<std::uint32_t> tris(c.size());
+// Only touched vertices: no other fan changed.
+void check_fans(const Indices& c, const Change& ch, Verdict& v) {
+    std::vector<std::uint32_t> local_of(ch.touched.size(), ~0u), verts;
+    for (std::uint32_t i = 0; i < ch.touched.size(); ++i)
+        if (ch.touched[i]) {
+            local_of[i] = std::uint32_t(verts.size());
+            verts.push_back(i);
+        }
+    std::vector<std::uint32_t> start(verts.size() + 1, 0);
+    for (const std::uint32_t i : c)
+        if (local_of[i] != ~0u) ++start[local_of[i] + 1];
+    for (std::size_t i = 0; i < verts.size(); ++i) start[i + 1] += start[i];
+    std::vector<std::uint32_t> tris(start.back());
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < c.size(); ++k) tris[fill[c[k]]++] = std::uint32_t(k / 3);
+    for (std::size_t k = 0; k < c.size(); ++k)
+        if (local_of[c[k]] != ~0u) tris[fill[local_of[c[k]]]++] = std::uint32_t(k / 3);
     std::vector<std::uint32_t> link, parent;
     std::vector<int> degree;
-    for (std::uint32_t vert = 0; vert < vertex_count; ++vert) {
-        if (start[vert] == start[vert + 1]) continue;
+    for (std::uint32_t lv = 0; lv < verts.size(); ++lv) {
+        const std::uint32_t vert = verts[lv];
+        if (start[lv] == start[lv + 1]) continue;
         link.clear();
         degree.clear();
         parent.clear();
@@ -221,7 +283,7 @@ void check_fans(const Indices& c, std::size_t vertex_count, Verdict& v) {
             return x;
         };
         bool bad = false;
-        for (std::uint32_t k = start[vert]; k < start[vert + 1]; ++k) {
+        for (std::uint32_t k = start[lv]; k < start[lv + 1]; ++k) {
             const std::uint32_t* t = &c[3 * tris[k]];
             const int at = t[0] == vert ? 0 : t[1] == vert ? 1 : 2;
             const std::uint32_t b = t[(at + 1) % 3], d = t[(at + 2) % 3];
@@ -246,17 +308,30 @@ void check_fans(const Indices& c, std::size_t vertex_count, Verdict& v) {
     }
 }
 
-// `before`: the components of the mesh the candidate `c` was made from, counted.
-Verdict check(const Mesh& work, const Indices& c, const Reference& ref, const Indices& from,
+// Checks the candidate `trial.indices`, made from `from` (whose triangles are `from_set`, whose
+// components `before` counts). Everything in `from` passed already, so only what changed is
+// examined: new triangles for flips, degeneracy and intersections (against all triangles, near
+// ones found through a grid), touched vertices for edges and fans.
+Verdict check(const Mesh& trial, std::size_t kept, const Indices& changed, const Reference& ref,
+              const Indices& from, const TriangleSet& from_set, const TriangleSet* previous,
               const Components& before) {
     Verdict v;
-    std::vector<std::uint8_t> is_new(c.size() / 3, 0);
-    for (std::size_t t = 0; t < is_new.size(); ++t) {
+    const Indices& c = trial.indices;
+    const Change ch = change_of(c, kept, changed, from_set, trial.positions.size());
+    // What a refused try of this step already examined is not examined again: a triangle's
+    // flip and shape, and whether two triangles intersect, depend on their corners alone (no
+    // vertex moves), and whatever failed then was frozen and cannot come back. So only the
+    // triangles missing from the previous try's candidate are examined (on the first try, the
+    // new ones: those of `from` passed before).
+    std::vector<std::uint8_t> examine = ch.is_new;
+    if (previous)
+        for (std::size_t t = 0; t < examine.size(); ++t)
+            examine[t] = !previous->contains(triangle_key(&c[3 * t]));
+    for (std::size_t t = 0; t < ch.is_new.size(); ++t) {
+        if (!ch.is_new[t] || !examine[t]) continue;
         const std::uint32_t* i = &c[3 * t];
-        is_new[t] = !ref.triangles.contains(triangle_key(i));
-        if (!is_new[t]) continue;
-        const glm::vec3 a = work.positions[i[0]], b = work.positions[i[1]],
-                        d = work.positions[i[2]];
+        const glm::vec3 a = trial.positions[i[0]], b = trial.positions[i[1]],
+                        d = trial.positions[i[2]];
         const bool degenerate = triangle_shape(a, b, d).degenerate;
         // The input's normals around the corners: a new triangle facing against them is flipped.
         const glm::vec3 around = ref.normals[i[0]] + ref.normals[i[1]] + ref.normals[i[2]];
@@ -265,24 +340,23 @@ Verdict check(const Mesh& work, const Indices& c, const Reference& ref, const In
         v.flips += flipped && !degenerate;
         if (degenerate || flipped) v.vertices.insert(v.vertices.end(), i, i + 3);
     }
-    check_edges(c, ref, v);
-    if (ref.manifold) check_fans(c, work.positions.size(), v);
-    // Only pairs with a new triangle: what the input already had is not the step's doing.
-    Mesh candidate;
-    candidate.positions = work.positions;
-    candidate.indices = c;
-    const SelfIntersections x = self_intersections(candidate, std::size_t(1) << 16);
+    check_edges(c, ch, ref, v);
+    if (ref.manifold) check_fans(c, ch, v);
+    // Only pairs with a new triangle: the others were there before and passed (or, present in
+    // the input, are not the decimation's doing).
+    const SelfIntersections x =
+        intersections_involving(trial, examine, std::numeric_limits<std::size_t>::max());
     for (const auto& [s, t] : x.pairs) {
-        if (!is_new[s] && !is_new[t]) continue;
+        if (!ch.is_new[s] && !ch.is_new[t]) continue;
         ++v.intersections;
         for (const std::uint32_t u : {s, t})
-            if (is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
+            if (ch.is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
     }
     // A component that would vanish (a speck of noise collapsed away) is kept whole.
     Components after = before;
     count_components(c, after);
-    std::vector<std::uint8_t> keep(before.euler.size(), 0);
-    for (std::size_t k = 0; k < before.euler.size(); ++k)
+    std::vector<std::uint8_t> keep(before.triangles.size(), 0);
+    for (std::size_t k = 0; k < before.triangles.size(); ++k)
         if (before.triangles[k] > 0 && after.triangles[k] == 0) {
             ++v.topology;
             keep[k] = 1;
@@ -334,6 +408,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
     const float scale = meshopt_simplifyScale(xyz, vertex_count, sizeof(glm::vec3));
     const double share = std::clamp(options.step_share, 1e-3, 1.0);
     double step = share; // of the triangles one step removes; halved after a failed step
+    int shrinks = 0;     // halvings since the last accepted step
     std::vector<std::uint8_t> frozen(vertex_count, 0);
     Mesh work;
     work.positions = mesh.positions;
@@ -359,8 +434,9 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
 
     while (true) {
         const std::size_t n = current.size() / 3;
-        Components before = components(current, vertex_count);
-        count_components(current, before);
+        const Components before = components(current, vertex_count);
+        const TriangleSet current_set = triangle_set(current);
+        TriangleSet previous; // the candidate of the step's last refused try
         if (!error_only && n <= target) break;
         const float error_left = options.max_error - report.error;
         if (!(error_left > 0.0f)) break;
@@ -390,11 +466,12 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
                 simplified.data(), free_part.data(), free_part.size(), xyz, vertex_count,
                 sizeof(glm::vec3), free_goal * 3, relative, flags, &step_error));
             if (simplified.size() >= free_part.size()) break; // nothing more to collapse
-            Indices candidate = frozen_part;
-            candidate.insert(candidate.end(), simplified.begin(), simplified.end());
-            const Verdict verdict = check(work, candidate, ref, current, before);
+            work.indices = frozen_part;
+            work.indices.insert(work.indices.end(), simplified.begin(), simplified.end());
+            const Verdict verdict = check(work, frozen_part.size() / 3, free_part, ref, current,
+                                          current_set, attempt > 0 ? &previous : nullptr, before);
             if (verdict.ok()) {
-                current = std::move(candidate);
+                current = work.indices;
                 report.error += step_error * scale;
                 ++report.steps;
                 accepted = true;
@@ -406,14 +483,21 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             report.refused_flips += verdict.flips;
             report.refused_degenerate += verdict.degenerate;
             if (freeze(verdict.vertices) == 0) break;
+            previous = triangle_set(work.indices);
         }
         if (accepted) {
+            // What was frozen was frozen against this step's collapses; the next step collapses
+            // elsewhere and differently, so every region gets its chance again (freezing for
+            // good left half of a scan's mesh untouchable: the rims of the frozen patches are
+            // locked too).
+            std::fill(frozen.begin(), frozen.end(), 0);
             step = share;
+            shrinks = 0;
             continue;
         }
         // Not even with the trouble spots frozen: try a smaller step from the same mesh.
         step *= 0.5;
-        if (double(n) * step < 1.0) break;
+        if (double(n) * step < 1.0 || ++shrinks > options.max_shrinks) break;
     }
     report.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), 1));
     Decimated result{compact(mesh, current), report};

@@ -544,57 +544,48 @@ double enclosed_volume(const Mesh& mesh) {
 // ---------------------------------------------------------------------------------------------
 // Accuracy.
 
-Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance, const Mesh* area_mesh) {
-    check_mesh(mesh);
+namespace {
+
+// Sums of weight * |d|, of weights, and the largest |d|, per chunk.
+struct Partial {
+    double sum = 0, weight = 0, max = 0;
+};
+
+Partial combine(const std::vector<Partial>& partials) {
+    Partial total;
+    for (const Partial& part : partials) {
+        total.sum += part.sum;
+        total.weight += part.weight;
+        total.max = std::max(total.max, part.max);
+    }
+    return total;
+}
+
+const Mesh& checked_area_mesh(const Mesh& mesh, const Mesh* area_mesh) {
     if (area_mesh && (area_mesh->indices != mesh.indices ||
                       area_mesh->positions.size() != mesh.positions.size()))
         throw std::invalid_argument("accuracy: the area mesh has other triangles");
-    const Mesh& areas = area_mesh ? *area_mesh : mesh;
-    // Sums of weight * |d|, of weights, and the largest |d|, per chunk.
-    struct Partial {
-        double sum = 0, weight = 0, max = 0;
-    };
-    auto combine = [](const std::vector<Partial>& partials) {
-        Partial total;
-        for (const Partial& part : partials) {
-            total.sum += part.sum;
-            total.weight += part.weight;
-            total.max = std::max(total.max, part.max);
-        }
-        return total;
-    };
-    auto measure = [&](std::size_t count, auto point_of) {
-        std::vector<Partial> partials((count + kPointChunk - 1) / kPointChunk);
-        for_each_chunk(count, kPointChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
-            Partial& part = partials[chunk];
-            for (std::size_t i = b; i < e; ++i) {
-                const double d = std::abs(double(distance(point_of(i))));
-                part.sum += d;
-                part.max = std::max(part.max, d);
-            }
-        });
-        const Partial total = combine(partials);
-        return std::pair(count == 0 ? 0.0 : total.sum / double(count), total.max);
-    };
-    Accuracy result;
-    std::tie(result.vertices_mean, result.vertices_max) =
-        measure(mesh.positions.size(), [&](std::size_t v) { return mesh.positions[v]; });
-    std::tie(result.faces_mean, result.faces_max) =
-        measure(mesh.triangle_count(), [&](std::size_t t) {
-            const std::uint32_t* i = &mesh.indices[3 * t];
-            return (mesh.positions[i[0]] + mesh.positions[i[1]] + mesh.positions[i[2]]) / 3.0f;
-        });
+    return area_mesh ? *area_mesh : mesh;
+}
 
-    // The surface: the sub-triangle centroids of a k-fold split, in barycentric coordinates
+} // namespace
+
+SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& distance,
+                                 const Mesh* area_mesh, int split) {
+    check_mesh(mesh);
+    if (split < 1) throw std::invalid_argument("surface distance: split must be at least 1");
+    const Mesh& areas = checked_area_mesh(mesh, area_mesh);
+    // The sub-triangle centroids of a k-fold split, in barycentric coordinates
     // ((i + 1/3) / k, (j + 1/3) / k) for the upright sub-triangles and ((i + 2/3) / k,
     // (j + 2/3) / k) for the inverted ones; each stands for 1 / k^2 of the area.
-    constexpr int k = kSurfaceSampleSplit;
-    std::array<glm::dvec2, std::size_t(k * k)> samples;
-    std::size_t n = 0;
+    const int k = split;
+    std::vector<glm::dvec2> samples;
+    samples.reserve(std::size_t(k) * std::size_t(k));
     for (int i = 0; i < k; ++i)
         for (int j = 0; i + j < k; ++j) {
-            samples[n++] = glm::dvec2(i + 1.0 / 3.0, j + 1.0 / 3.0) / double(k);
-            if (i + j < k - 1) samples[n++] = glm::dvec2(i + 2.0 / 3.0, j + 2.0 / 3.0) / double(k);
+            samples.push_back(glm::dvec2(i + 1.0 / 3.0, j + 1.0 / 3.0) / double(k));
+            if (i + j < k - 1)
+                samples.push_back(glm::dvec2(i + 2.0 / 3.0, j + 2.0 / 3.0) / double(k));
         }
     const std::size_t triangles = mesh.triangle_count();
     std::vector<Partial> partials((triangles + kPointChunk - 1) / kPointChunk);
@@ -618,8 +609,40 @@ Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance, const Mesh
         }
     });
     const Partial surface = combine(partials);
-    result.surface_mean = surface.weight > 0 ? surface.sum / surface.weight : 0.0;
-    result.surface_max = surface.weight > 0 ? surface.max : 0.0;
+    SurfaceDistance result;
+    result.mean = surface.weight > 0 ? surface.sum / surface.weight : 0.0;
+    result.max = surface.weight > 0 ? surface.max : 0.0;
+    return result;
+}
+
+Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance, const Mesh* area_mesh) {
+    check_mesh(mesh);
+    checked_area_mesh(mesh, area_mesh);
+    auto measure = [&](std::size_t count, auto point_of) {
+        std::vector<Partial> partials((count + kPointChunk - 1) / kPointChunk);
+        for_each_chunk(count, kPointChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+            Partial& part = partials[chunk];
+            for (std::size_t i = b; i < e; ++i) {
+                const double d = std::abs(double(distance(point_of(i))));
+                part.sum += d;
+                part.max = std::max(part.max, d);
+            }
+        });
+        const Partial total = combine(partials);
+        return std::pair(count == 0 ? 0.0 : total.sum / double(count), total.max);
+    };
+    Accuracy result;
+    std::tie(result.vertices_mean, result.vertices_max) =
+        measure(mesh.positions.size(), [&](std::size_t v) { return mesh.positions[v]; });
+    std::tie(result.faces_mean, result.faces_max) =
+        measure(mesh.triangle_count(), [&](std::size_t t) {
+            const std::uint32_t* i = &mesh.indices[3 * t];
+            return (mesh.positions[i[0]] + mesh.positions[i[1]] + mesh.positions[i[2]]) / 3.0f;
+        });
+    const SurfaceDistance surface =
+        surface_distance(mesh, distance, area_mesh, kSurfaceSampleSplit);
+    result.surface_mean = surface.mean;
+    result.surface_max = surface.max;
     return result;
 }
 

@@ -438,9 +438,16 @@ void check_indices(const Mesh& mesh) {
 
 } // namespace
 
-SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
+namespace {
+
+// Every intersecting pair (t, u), t < u; with `subject`, only pairs with a triangle marked in it
+// (each examined from that triangle; from the smaller one when both are marked).
+SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::uint8_t>* subject,
+                                     std::size_t max_pairs) {
     check_indices(mesh);
     const std::size_t triangles = mesh.triangle_count();
+    if (subject && subject->size() != triangles)
+        throw std::invalid_argument("intersections: one mark per triangle expected");
     auto corners = [&](std::size_t t, glm::vec3 out[3]) {
         for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
     };
@@ -464,6 +471,7 @@ SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
     for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t t = b; t < e; ++t) first[t] = grid.cell_of(boxes[t].lo);
     });
+    auto marked = [&](std::size_t t) { return subject == nullptr || (*subject)[t] != 0; };
 
     struct Partial {
         std::size_t count = 0;
@@ -474,14 +482,14 @@ SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
         Partial& part = partials[chunk];
         std::vector<std::uint32_t> hits; // partners of one triangle, reused
         for (std::size_t t = b; t < e; ++t) {
-            if (!valid[t]) continue;
+            if (!valid[t] || !marked(t)) continue;
             glm::vec3 p[3], q[3];
             corners(t, p);
             hits.clear();
             for_each_cell(grid, boxes[t], [&](glm::ivec3 cell, std::size_t c) {
                 for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
                     const std::uint32_t u = grid.items[k];
-                    if (u <= t || glm::max(first[t], first[u]) != cell ||
+                    if (u == t || (u < t && marked(u)) || glm::max(first[t], first[u]) != cell ||
                         !boxes_overlap(boxes[t], boxes[u]))
                         continue;
                     corners(u, q);
@@ -490,21 +498,109 @@ SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
             });
             part.count += hits.size();
             std::sort(hits.begin(), hits.end());
-            for (std::uint32_t u : hits) {
-                if (part.pairs.size() >= max_pairs) break;
-                part.pairs.emplace_back(std::uint32_t(t), u);
-            }
+            for (std::uint32_t u : hits)
+                part.pairs.emplace_back(std::min(std::uint32_t(t), u),
+                                        std::max(std::uint32_t(t), u));
+            if (subject == nullptr && part.pairs.size() > max_pairs) part.pairs.resize(max_pairs);
         }
     });
     SelfIntersections result;
     for (const Partial& part : partials) {
         result.count += part.count;
-        for (const auto& pair : part.pairs) {
-            if (result.pairs.size() >= max_pairs) break;
-            result.pairs.push_back(pair);
-        }
+        result.pairs.insert(result.pairs.end(), part.pairs.begin(), part.pairs.end());
     }
+    std::sort(result.pairs.begin(), result.pairs.end());
+    if (result.pairs.size() > max_pairs) result.pairs.resize(max_pairs);
     return result;
+}
+
+// The pairs with a marked triangle when few are marked: the grid holds the marked triangles
+// alone (a small region, a small grid) and every triangle is looked up in it, so a try that
+// changed a few hundred triangles costs a pass over the boxes, not a grid of the whole mesh. A
+// pair is examined once: in the cell of the lowest corner of its boxes' overlap, from the
+// unmarked triangle, or from the larger index when both are marked.
+SelfIntersections few_marked_intersections(const Mesh& mesh,
+                                           const std::vector<std::uint8_t>& subject,
+                                           std::size_t max_pairs) {
+    const std::size_t triangles = mesh.triangle_count();
+    auto corners = [&](std::size_t t, glm::vec3 out[3]) {
+        for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
+    };
+    std::vector<Box> boxes(triangles);
+    std::vector<std::uint8_t> valid(triangles, 0), in_grid(triangles, 0);
+    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t t = b; t < e; ++t) {
+            glm::vec3 p[3];
+            corners(t, p);
+            boxes[t] = {glm::min(p[0], glm::min(p[1], p[2])), glm::max(p[0], glm::max(p[1], p[2]))};
+            valid[t] = finite(p) ? 1 : 0;
+            in_grid[t] = valid[t] && subject[t];
+        }
+    });
+    BoxGrid grid = make_grid(boxes, in_grid);
+    fill_grid(grid, boxes, in_grid);
+    Box region{glm::vec3(std::numeric_limits<float>::max()),
+               glm::vec3(std::numeric_limits<float>::lowest())};
+    for (std::size_t t = 0; t < triangles; ++t)
+        if (in_grid[t])
+            region = {glm::min(region.lo, boxes[t].lo), glm::max(region.hi, boxes[t].hi)};
+
+    struct Partial {
+        std::size_t count = 0;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    };
+    std::vector<Partial> partials(chunk_count(triangles, kTriangleChunk));
+    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+        Partial& part = partials[chunk];
+        for (std::size_t u = b; u < e; ++u) {
+            if (!valid[u] || !boxes_overlap(boxes[u], region)) continue;
+            glm::vec3 p[3], q[3];
+            corners(u, p);
+            const glm::ivec3 first_u = grid.cell_of(boxes[u].lo);
+            for_each_cell(grid, boxes[u], [&](glm::ivec3 cell, std::size_t c) {
+                for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
+                    const std::uint32_t t = grid.items[k];
+                    if (t == u || (subject[u] && t > u) ||
+                        glm::max(first_u, grid.cell_of(boxes[t].lo)) != cell ||
+                        !boxes_overlap(boxes[t], boxes[u]))
+                        continue;
+                    corners(t, q);
+                    if (triangles_intersect(q, p)) {
+                        ++part.count;
+                        part.pairs.emplace_back(std::min(std::uint32_t(u), t),
+                                                std::max(std::uint32_t(u), t));
+                    }
+                }
+            });
+        }
+    });
+    SelfIntersections result;
+    for (const Partial& part : partials) {
+        result.count += part.count;
+        result.pairs.insert(result.pairs.end(), part.pairs.begin(), part.pairs.end());
+    }
+    std::sort(result.pairs.begin(), result.pairs.end());
+    if (result.pairs.size() > max_pairs) result.pairs.resize(max_pairs);
+    return result;
+}
+
+} // namespace
+
+SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs) {
+    return find_intersections(mesh, nullptr, max_pairs);
+}
+
+SelfIntersections intersections_involving(const Mesh& mesh,
+                                          const std::vector<std::uint8_t>& subject,
+                                          std::size_t max_pairs) {
+    check_indices(mesh);
+    if (subject.size() != mesh.triangle_count())
+        throw std::invalid_argument("intersections: one mark per triangle expected");
+    // A grid of the whole mesh pays off once a good share of it is marked.
+    const auto marked = std::size_t(
+        std::count_if(subject.begin(), subject.end(), [](std::uint8_t m) { return m != 0; }));
+    if (marked * 8 < subject.size()) return few_marked_intersections(mesh, subject, max_pairs);
+    return find_intersections(mesh, &subject, max_pairs);
 }
 
 std::size_t count_self_intersections(const Mesh& mesh) {

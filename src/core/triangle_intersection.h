@@ -66,6 +66,14 @@ struct SelfIntersections {
 // the count.
 SelfIntersections self_intersections(const Mesh& mesh, std::size_t max_pairs = 64);
 
+// The intersecting pairs with at least one triangle marked in `subject` (one entry per
+// triangle), found through the same grid but examined only from the marked triangles: what a
+// local change (a decimation step) may have broken, at the cost of the marked triangles alone.
+// Same order and cap as above.
+SelfIntersections intersections_involving(const Mesh& mesh,
+                                          const std::vector<std::uint8_t>& subject,
+                                          std::size_t max_pairs = 64);
+
 // The count alone.
 std::size_t count_self_intersections(const Mesh& mesh);
 

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/compactness.h"
+#include "core/parallel.h"
 #include "core/phantom.h"
 
 namespace snert {
@@ -76,6 +77,27 @@ TEST(Compactness, CurveLosesAccuracyAsTrianglesGo) {
             // Even at 5 % the surface stays within half a voxel of the full one.
             EXPECT_LT(curve[i].accuracy_max, 0.5);
         }
+    }
+}
+
+TEST(Compactness, CurveDoesNotDependOnTheThreadCount) {
+    // The intersection checks and the distances run in parallel chunks; the curve (counts,
+    // refusals, distances) must be the same on one thread, bit for bit.
+    const Phantom phantom = make_phantom("sphere", 32);
+    Mesh mesh = mc_and_snert(phantom).front().mesh;
+    std::vector<CompactnessPoint> one, all;
+    {
+        const ThreadLimit limit(1);
+        one = compactness_curve(mesh, phantom.volume);
+    }
+    all = compactness_curve(mesh, phantom.volume);
+    ASSERT_EQ(one.size(), all.size());
+    for (std::size_t i = 0; i < one.size(); ++i) {
+        EXPECT_EQ(one[i].triangles, all[i].triangles);
+        EXPECT_EQ(one[i].refusals, all[i].refusals);
+        EXPECT_EQ(one[i].accuracy_mean, all[i].accuracy_mean);
+        EXPECT_EQ(one[i].accuracy_max, all[i].accuracy_max);
+        EXPECT_EQ(one[i].quality_mean, all[i].quality_mean);
     }
 }
 

@@ -442,6 +442,22 @@ TEST(Accuracy, SurfaceSeesWhatVerticesMiss) {
     EXPECT_LT(a.surface_max, a.faces_max);   // no sample sits at the centroid (a sub-corner)
 }
 
+TEST(SurfaceDistance, SplitSetsTheSamples) {
+    // With accuracy()'s split, accuracy()'s surface figures; with split 1, the area-weighted
+    // mean at the centroids and the largest centroid distance (the octahedron's faces_max).
+    const DistanceFunction sphere = [](glm::vec3 p) { return glm::length(p) - 1.0f; };
+    const Mesh m = octahedron();
+    const Accuracy a = accuracy(m, sphere);
+    const SurfaceDistance fine = surface_distance(m, sphere, nullptr, kSurfaceSampleSplit);
+    EXPECT_EQ(fine.mean, a.surface_mean);
+    EXPECT_EQ(fine.max, a.surface_max);
+    const SurfaceDistance centroids = surface_distance(m, sphere, nullptr, 1);
+    EXPECT_NEAR(centroids.mean, a.faces_mean, 1e-12); // equal areas: the plain centroid mean
+    EXPECT_NEAR(centroids.max, a.faces_max, 1e-12);
+    EXPECT_GT(centroids.max, fine.max);
+    EXPECT_THROW(surface_distance(m, sphere, nullptr, 0), std::invalid_argument);
+}
+
 // --- Mesh distance --------------------------------------------------------------------------
 
 // Independent brute-force reference: the plane distance when the projection falls inside the

@@ -275,6 +275,42 @@ TEST(SelfIntersections, GridMatchesAllPairs) {
     EXPECT_TRUE(std::is_sorted(found.pairs.begin(), found.pairs.end()));
 }
 
+TEST(SelfIntersections, InvolvingMarkedTrianglesMatchesTheFullList) {
+    // The jittered sphere again; every third triangle marked (the whole mesh's grid), then every
+    // twentieth (a grid of the marked ones alone): exactly the full list's pairs with a marked
+    // triangle, in the same order, each once (also where both are marked).
+    Mesh mesh = test::phantom_mc("sphere", 12);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> jitter(-0.6f, 0.6f);
+    for (glm::vec3& p : mesh.positions) p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    const SelfIntersections all = self_intersections(mesh, 1u << 20);
+    for (const std::size_t stride : {3u, 20u}) {
+        SCOPED_TRACE(stride);
+        std::vector<std::uint8_t> marked(mesh.triangle_count(), 0);
+        for (std::size_t t = 0; t < marked.size(); t += stride) marked[t] = 1;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> expected;
+        std::size_t both = 0;
+        for (const auto& [t, u] : all.pairs)
+            if (marked[t] || marked[u]) {
+                expected.emplace_back(t, u);
+                both += marked[t] && marked[u];
+            }
+        if (stride == 3) {
+            ASSERT_GT(both, 0u);
+        }
+        ASSERT_GT(expected.size(), 5u);
+        ASSERT_LT(expected.size(), all.pairs.size());
+        const SelfIntersections some = intersections_involving(mesh, marked, 1u << 20);
+        EXPECT_EQ(some.count, expected.size());
+        EXPECT_EQ(some.pairs, expected);
+        const SelfIntersections capped = intersections_involving(mesh, marked, 5);
+        EXPECT_EQ(capped.count, expected.size());
+        EXPECT_EQ(capped.pairs, std::vector(expected.begin(), expected.begin() + 5));
+    }
+    EXPECT_THROW(intersections_involving(mesh, std::vector<std::uint8_t>(3, 1)),
+                 std::invalid_argument);
+}
+
 TEST(SelfIntersections, EmptyAndBadMesh) {
     EXPECT_EQ(count_self_intersections(Mesh{}), 0u);
     Mesh bad;

@@ -15,8 +15,9 @@ namespace {
 struct DecimationCase {
     const char* file;
     float iso;
-    // Largest share of the triangles left: measured 0.25 on the carotid (both methods), 0.52
-    // (MC) and 0.61 (SNERT) on the 4 mm head, whose many small tunnels and specks stop it.
+    // Largest share of the triangles left: measured 0.25 on the carotid (both methods: the
+    // target), 0.25 (MC: the target) and 0.287 (SNERT) on the 4 mm head, whose many small
+    // tunnels and specks stop the net (0.52 and 0.61 while refused regions stayed frozen).
     double reached;
 };
 
@@ -54,7 +55,7 @@ TEST_P(DecimationOnRealVolume, StaysFeReady) {
 
 INSTANTIATE_TEST_SUITE_P(SharedData, DecimationOnRealVolume,
                          ::testing::Values(DecimationCase{"carotid.vtk", 190.0f, 0.26},
-                                           DecimationCase{"HeadMRVolume.mhd", 40.0f, 0.65}),
+                                           DecimationCase{"HeadMRVolume.mhd", 40.0f, 0.30}),
                          [](const auto& param_info) {
                              return std::string(param_info.param.file).substr(0, 7);
                          });
