@@ -16,7 +16,7 @@ Runner add_compare(CLI::App& app) {
         PipelineArgs pipeline;
         std::string json;
         EqualCountArgs equal_count;
-        bool no_compactness = false;
+        bool compactness = false;
         bool quiet = false;
     };
     auto args = std::make_shared<Args>();
@@ -27,9 +27,10 @@ Runner add_compare(CLI::App& app) {
     add_json_option(*command, args->json);
     add_equal_count_option(*command, args->equal_count);
     command
-        ->add_flag("--no-compactness", args->no_compactness,
-                   "leave the compactness curve (each mesh reduced to 50, 25, 10 and 5 % of its "
-                   "triangles) out of the JSON, which is faster")
+        ->add_flag("--compactness,!--no-compactness", args->compactness,
+                   "add each mesh's compactness curve (reduced to 50, 25, 10 and 5 % of its "
+                   "triangles, its distance to the full mesh and its quality) to the JSON; it "
+                   "costs several times the comparison on a large scan, so it is off by default")
         ->group("Compactness");
     add_quiet_option(*command, args->quiet);
     command->footer("The table goes to standard output (to standard error with --json -).\n");
@@ -54,7 +55,7 @@ Runner add_compare(CLI::App& app) {
         // The curve starts from the full meshes, before any equal-count reduction.
         std::vector<std::vector<CompactnessPoint>> curves;
         std::vector<Method> methods;
-        if (!args->json.empty() && !args->no_compactness) {
+        if (!args->json.empty() && args->compactness) {
             const Progress curve_progress = progress.stage("compactness");
             for (std::size_t i = 0; i < results.size(); ++i) {
                 curves.push_back(compactness_curve(results[i].mesh, *source.volume));

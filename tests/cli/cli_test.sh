@@ -122,7 +122,7 @@ expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 16 --iso 0.25 --mode 
 grep -q "(iso 0.25)" "$tmp/out" || fail "the table title does not print the iso as given"
 
 # compare: the table and the JSON schema.
-expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 24 --json "$tmp/c.json"
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 24 --compactness --json "$tmp/c.json"
 grep -q "snert" "$tmp/out" || fail "compare table lacks the snert row"
 grep -q "fe_ready" "$tmp/out" || fail "compare table lacks the FE-readiness columns"
 grep -q "accS over the whole surface" "$tmp/out" || fail "compare table does not say which accuracy is which"
@@ -152,7 +152,7 @@ assert j["snert"]["quality_mean"] > j["mc"]["quality_mean"]
 PY
 # compare --equal-count: the meshes reduced to one count and measured again; the compactness
 # curve of the full meshes in the JSON.
-expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count --json "$tmp/eq.json"
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count --compactness --json "$tmp/eq.json"
 grep -q "equal triangle count" "$tmp/out" || fail "compare --equal-count does not say so"
 python3 - "$tmp/eq.json" <<'PY' || fail "compare --equal-count JSON"
 import json, sys
@@ -176,7 +176,7 @@ for m in ("mc", "snert"):
     # Coarser meshes are farther from the full one.
     assert c[4]["accuracy_mean"] > c[1]["accuracy_mean"], c
 PY
-expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count=500 --no-compactness --json "$tmp/eq500.json"
+expect_exit 0 "" -- "$SNERT" compare phantom:sphere --size 32 --mode snert --iterations 10 --equal-count=500 --json "$tmp/eq500.json"
 python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert 'compactness' not in j; assert j['equal_count']=={'triangles':500,'target':500,'requested':500}; assert all(490<=j[m]['triangles']<=500 and j[m]['decimation']['requested']==500 for m in ('mc','snert'))" "$tmp/eq500.json" || fail "compare --equal-count=500"
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count 0
 expect_exit 2 "--equal-count: must be a whole number" -- "$SNERT" compare phantom:sphere --equal-count many
