@@ -706,16 +706,7 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
 }
 
 std::span<const float> DisplayMesh::values(ShapeMeasure measure) const {
-    switch (measure) {
-    case ShapeMeasure::Quality:
-        return quality;
-    case ShapeMeasure::Quality60:
-        return quality60;
-    case ShapeMeasure::RadiusRatio:
-        return radius_ratio;
-    default:
-        return {};
-    }
+    return shapes.of(measure);
 }
 
 const MeasureSummary& DisplayMesh::summary(ShapeMeasure measure) const {
@@ -724,10 +715,7 @@ const MeasureSummary& DisplayMesh::summary(ShapeMeasure measure) const {
 }
 
 void DisplayMesh::measure_triangles() {
-    TriangleMeasures m = triangle_measures(mesh);
-    quality = std::move(m.quality);
-    quality60 = std::move(m.quality60);
-    radius_ratio = std::move(m.radius_ratio);
+    shapes = triangle_measures(mesh);
     for (const ShapeMeasure s :
          {ShapeMeasure::Quality, ShapeMeasure::Quality60, ShapeMeasure::RadiusRatio})
         summaries[std::size_t(s)] = summarize_measure(values(s));
@@ -746,7 +734,7 @@ std::shared_ptr<const DisplayMesh> Worker::make_frame(Job& job, int iteration,
     frame->mesh = mesh_to_world(index_mesh, *c.volume);
     frame->measure_triangles();
     frame->normals = render::vertex_normals(frame->mesh);
-    frame->metrics = quick_metrics(frame->mesh, frame->quality);
+    frame->metrics = quick_metrics(frame->mesh, frame->shapes.quality);
     frame->metrics_complete = false;
     frame->geometry = ++next_geometry_;
     // The net's topology is the job's: one preview serves every iteration.

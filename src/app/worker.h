@@ -98,9 +98,7 @@ struct DisplayMesh {
     Method method = Method::MarchingCubes;
     int iteration = -1; // relaxation iteration; -1 for Marching Cubes
     Mesh mesh;
-    std::vector<float> quality;      // smallest / largest angle per triangle
-    std::vector<float> quality60;    // smallest angle / 60 degrees per triangle
-    std::vector<float> radius_ratio; // 2 r / R per triangle
+    TriangleMeasures shapes; // q, q60, radius ratio and the angles per triangle (core/metrics.h)
     // Mean and histogram of each shape measure (ShapeMeasure order), for the histogram panel.
     // The distances are not the mesh's alone: they come as a DistanceMessage for the pair.
     std::array<MeasureSummary, 3> summaries{};
@@ -115,7 +113,7 @@ struct DisplayMesh {
     // A shape measure's values and summary (empty, and a zero summary, for a distance).
     std::span<const float> values(ShapeMeasure measure) const;
     const MeasureSummary& summary(ShapeMeasure measure) const;
-    // Fills quality, quality60, radius_ratio and summaries from the mesh (the worker's job).
+    // Fills shapes and summaries from the mesh (the worker's job).
     void measure_triangles();
 };
 

@@ -1042,8 +1042,9 @@ TEST(AppViews, ColourByDistance) {
     // Back to q: the shapes' values again, no distance asked for.
     app.settings().view.color_by = "q";
     h->frame();
-    EXPECT_TRUE(same(app.view_renderer().values(1),
-                     std::vector<float>(r.frame->quality.begin(), r.frame->quality.end())));
+    EXPECT_TRUE(
+        same(app.view_renderer().values(1),
+             std::vector<float>(r.frame->shapes.quality.begin(), r.frame->shapes.quality.end())));
 }
 
 // A click in a view picks the triangle under the mouse; the panel's numbers are the core's for
@@ -1067,7 +1068,7 @@ TEST(AppViews, ClickPicksATriangle) {
     EXPECT_EQ(p.shape.quality, shape.quality);
     EXPECT_EQ(p.shape.quality60, shape.quality60);
     EXPECT_EQ(p.shape.radius_ratio, shape.radius_ratio);
-    EXPECT_EQ(p.shape.quality, app.results().mc->quality[p.triangle]);
+    EXPECT_EQ(p.shape.quality, app.results().mc->shapes.quality[p.triangle]);
     EXPECT_NEAR(p.angles[0] + p.angles[1] + p.angles[2], 180.0f, 1e-3f);
     EXPECT_NEAR(std::min({p.angles[0], p.angles[1], p.angles[2]}), shape.min_angle, 1e-3f);
     // The ray through the view's centre: the sphere's nearest point to the eye is in front.
@@ -1083,14 +1084,14 @@ TEST(AppViews, ClickPicksATriangle) {
     ASSERT_TRUE(app.picked());
     EXPECT_EQ(app.picked()->view, 1);
     const std::size_t triangle = app.picked()->triangle;
-    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->quality[triangle]);
+    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->shapes.quality[triangle]);
     app.step(-1);
     ASSERT_TRUE(h->run_until(settled));
     h->frame();
     ASSERT_TRUE(app.picked());
     EXPECT_EQ(app.picked()->mesh->iteration, 3);
     EXPECT_EQ(app.picked()->triangle, triangle);
-    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->quality[triangle]);
+    EXPECT_EQ(app.picked()->shape.quality, app.results().frame->shapes.quality[triangle]);
 
     // A click beside the mesh picks nothing; a drag turns the camera and picks nothing new.
     h->click(net.x0 + 3, net.y0 + 3);

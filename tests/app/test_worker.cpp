@@ -118,7 +118,7 @@ void expect_matches_pipeline(const JobResults& r, const JobRequest& job) {
     ASSERT_TRUE(r.mc && r.frame);
     EXPECT_TRUE(r.mc_current && r.frame_current && r.source_current);
     EXPECT_TRUE(same_mesh(r.mc->mesh, e.mc.mesh));
-    EXPECT_EQ(r.mc->quality.size(), e.mc.mesh.triangle_count());
+    EXPECT_EQ(r.mc->shapes.quality.size(), e.mc.mesh.triangle_count());
     EXPECT_EQ(r.mc->metrics.quality.mean, e.mc.metrics.quality.mean);
     EXPECT_TRUE(same_mesh(r.frame->mesh, e.net.mesh));
     EXPECT_EQ(r.frame->metrics.quality.mean, e.net.metrics.quality.mean);
@@ -599,7 +599,7 @@ TEST(Worker, CompactnessFollowsTheJob) {
         EXPECT_LE(mesh->mesh.triangle_count(), c.equal_count);
         EXPECT_GE(double(mesh->mesh.triangle_count()), 0.99 * double(c.equal_count));
         EXPECT_EQ(mesh->metrics.triangles, mesh->mesh.triangle_count());
-        EXPECT_EQ(mesh->quality.size(), mesh->mesh.triangle_count());
+        EXPECT_EQ(mesh->shapes.quality.size(), mesh->mesh.triangle_count());
         EXPECT_EQ(mesh->normals.size(), mesh->mesh.vertex_count());
         EXPECT_TRUE(mesh->metrics.fe_ready);
     }
