@@ -34,6 +34,8 @@ nlohmann::json decimation_json(const DecimationReport& r) {
               {"flips", r.refused_flips},
               {"degenerate", r.refused_degenerate}}},
             {"frozen_vertices", r.frozen_vertices},
+            {"vanished_components", r.vanished_components},
+            {"vanished_triangles", r.vanished_triangles},
             {"stalled", r.stalled},
             {"euler_change", r.euler_change},
             {"error", r.error}};
@@ -71,6 +73,9 @@ void print_equal_count(std::ostream& out, const EqualCountRun& run,
             out << " (topology " << r.refused_topology << ", intersections "
                 << r.refused_intersections << ", flips " << r.refused_flips << ", degenerate "
                 << r.refused_degenerate << "; " << r.frozen_vertices << " vertices kept)";
+        if (r.vanished_components > 0)
+            out << "; " << r.vanished_components << " specks removed (" << r.vanished_triangles
+                << " triangles: too small for their share)";
         if (r.stalled) out << "; stopped short of the count: no further step passed the checks";
         out << "\n";
     }

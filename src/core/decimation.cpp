@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 
 #include <meshoptimizer.h>
 
 #include "metrics.h"
+#include "parallel.h"
 #include "triangle_intersection.h"
 
 namespace snert {
@@ -352,7 +354,7 @@ Verdict check(const Mesh& trial, std::size_t kept, const Indices& changed, const
         for (const std::uint32_t u : {s, t})
             if (ch.is_new[u]) v.vertices.insert(v.vertices.end(), &c[3 * u], &c[3 * u] + 3);
     }
-    // A component that would vanish (a speck of noise collapsed away) is kept whole.
+    // A component that would vanish is kept whole (specks went before the first step).
     Components after = before;
     count_components(c, after);
     std::vector<std::uint8_t> keep(before.triangles.size(), 0);
@@ -371,6 +373,88 @@ void check_indices(const Mesh& mesh) {
         throw std::invalid_argument("decimate: index count is not a multiple of 3");
     for (const std::uint32_t i : mesh.indices)
         if (i >= mesh.positions.size()) throw std::invalid_argument("decimate: index out of range");
+}
+
+// Patches: the free triangles of a step grouped by the cell of a grid their centroid falls in,
+// each simplified on its own with its rim locked. A refused collapse then sends back only its own
+// patch for another try (one simplification of the whole free part let every retry collapse
+// differently everywhere, so new refusals kept coming until the retries ran out), and the patches
+// of a try run in parallel, each writing its own result: the order of the patches, and so the
+// result, does not depend on the thread count. The cells hold about kPatchTriangles triangles
+// (their side from the mean triangle area) and move by half a side from one step to the next, so
+// that a rim locked in one step lies inside a patch in the next.
+constexpr double kPatchTriangles = 1024;
+
+struct Patches {
+    std::vector<std::uint32_t> of_triangle; // patch of each triangle
+    std::size_t count = 0;
+};
+
+Patches make_patches(const std::vector<glm::vec3>& positions, const Indices& c, bool shifted) {
+    Patches p;
+    const std::size_t n = c.size() / 3;
+    p.of_triangle.assign(n, 0);
+    if (n == 0) return p;
+    double area = 0.0;
+    glm::dvec3 low(std::numeric_limits<double>::infinity());
+    for (std::size_t t = 0; t < c.size(); t += 3) {
+        const glm::dvec3 a = positions[c[t]], b = positions[c[t + 1]], d = positions[c[t + 2]];
+        area += 0.5 * glm::length(glm::cross(b - a, d - a));
+        low = glm::min(low, glm::min(a, glm::min(b, d)));
+    }
+    const double side = std::sqrt(kPatchTriangles * area / double(n));
+    p.count = 1;
+    if (!(side > 0.0) || !std::isfinite(side)) return p;
+    const double offset = shifted ? 0.5 * side : 0.0;
+    std::unordered_map<std::uint64_t, std::uint32_t> id_of;
+    for (std::size_t t = 0; t < n; ++t) {
+        const std::uint32_t* i = &c[3 * t];
+        const glm::dvec3 centre = (glm::dvec3(positions[i[0]]) + glm::dvec3(positions[i[1]]) +
+                                   glm::dvec3(positions[i[2]])) /
+                                  3.0;
+        const glm::dvec3 cell = glm::floor((centre - low + offset) / side);
+        std::uint64_t key = 0;
+        for (int k = 0; k < 3; ++k)
+            key = (key << 21) | (std::uint64_t(std::clamp(cell[k], 0.0, 2097151.0)) & 0x1FFFFF);
+        const auto [it, added] = id_of.try_emplace(key, std::uint32_t(id_of.size()));
+        p.of_triangle[t] = it->second;
+    }
+    p.count = id_of.size();
+    return p;
+}
+
+// One patch simplified: its triangles (mesh indices) towards `goal` triangles, with meshoptimizer
+// on a copy of the patch's own vertices (so a call costs what the patch holds, not the mesh), its
+// rim locked. `error_left` in mesh units; the error reached comes back in mesh units too.
+struct PatchResult {
+    Indices indices;
+    float error = 0.0f;
+};
+
+PatchResult simplify_patch(const Indices& triangles, const std::vector<glm::vec3>& positions,
+                           std::size_t goal, float error_left) {
+    Indices vertices = triangles;
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    std::vector<glm::vec3> local_positions(vertices.size());
+    for (std::size_t v = 0; v < vertices.size(); ++v) local_positions[v] = positions[vertices[v]];
+    Indices local(triangles.size());
+    for (std::size_t k = 0; k < triangles.size(); ++k)
+        local[k] = std::uint32_t(std::lower_bound(vertices.begin(), vertices.end(), triangles[k]) -
+                                 vertices.begin());
+    const float* xyz = &local_positions[0].x;
+    const float scale = meshopt_simplifyScale(xyz, vertices.size(), sizeof(glm::vec3));
+    const float relative = std::isfinite(error_left) && scale > 0.0f ? error_left / scale : 1e10f;
+    Indices simplified(local.size());
+    float relative_error = 0.0f;
+    simplified.resize(meshopt_simplify(simplified.data(), local.data(), local.size(), xyz,
+                                       vertices.size(), sizeof(glm::vec3), goal * 3, relative,
+                                       unsigned(meshopt_SimplifyLockBorder), &relative_error));
+    PatchResult result;
+    result.indices.resize(simplified.size());
+    for (std::size_t k = 0; k < simplified.size(); ++k) result.indices[k] = vertices[simplified[k]];
+    result.error = relative_error * scale;
+    return result;
 }
 
 Mesh compact(const Mesh& mesh, const Indices& indices) {
@@ -402,17 +486,29 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
         return {mesh, report};
     }
     const Reference ref = make_reference(mesh);
-
-    const float* xyz = &mesh.positions[0].x;
     const std::size_t vertex_count = mesh.positions.size();
-    const float scale = meshopt_simplifyScale(xyz, vertex_count, sizeof(glm::vec3));
-    const double share = std::clamp(options.step_share, 1e-3, 1.0);
-    double step = share; // of the triangles one step removes; halved after a failed step
-    int shrinks = 0;     // halvings since the last accepted step
-    std::vector<std::uint8_t> frozen(vertex_count, 0);
+    // Specks: components of the input too small to keep a closed shape at the target's share of
+    // their triangles (under a tetrahedron's 4); they may vanish unless every component is kept.
+    const Components input_components = components(mesh.indices, vertex_count);
+    const double share = error_only ? 1.0 : double(target) / double(report.original);
+    std::vector<std::uint8_t> speck(input_components.triangles.size(), 0);
+    if (!options.keep_every_component && !error_only)
+        for (std::size_t k = 0; k < speck.size(); ++k)
+            speck[k] = double(input_components.triangles[k]) * share < 4.0;
+
+    const double step_share = std::clamp(options.step_share, 1e-3, 1.0);
+    double step = step_share; // of the triangles one step removes; halved after a failed step
+    int shrinks = 0;          // halvings since the last accepted step
+    std::vector<std::uint8_t> frozen(vertex_count, 0), was_frozen;
     Mesh work;
     work.positions = mesh.positions;
-    Indices current = mesh.indices;
+    // Specks go first, whole: left to the collapses they fold into flat pillows that every
+    // step's first try refuses.
+    Indices current;
+    current.reserve(mesh.indices.size());
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3)
+        if (!speck[input_components.of_vertex[mesh.indices[t]]])
+            current.insert(current.end(), &mesh.indices[t], &mesh.indices[t] + 3);
     Indices free_part, frozen_part, simplified;
 
     // Freezes `vertices`; when all of them already are, their neighbours in `current`.
@@ -434,37 +530,60 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
 
     while (true) {
         const std::size_t n = current.size() / 3;
-        const Components before = components(current, vertex_count);
-        const TriangleSet current_set = triangle_set(current);
-        TriangleSet previous; // the candidate of the step's last refused try
         if (!error_only && n <= target) break;
         const float error_left = options.max_error - report.error;
         if (!(error_left > 0.0f)) break;
+        const Components before = components(current, vertex_count);
+        const TriangleSet current_set = triangle_set(current);
+        TriangleSet previous; // the candidate of the step's last refused try
         const auto removed = std::size_t(std::ceil(double(n) * step));
         std::size_t goal = removed >= n ? 0 : n - removed;
         if (!error_only) goal = std::max(goal, target);
+        const Patches patches = make_patches(mesh.positions, current, report.steps % 2 == 1);
+        std::vector<Indices> patch_in(patches.count);
+        std::vector<PatchResult> patch_out(patches.count);
+        std::vector<std::uint8_t> dirty(patches.count, 1); // to be simplified (again)
         bool accepted = false;
         for (int attempt = 0; attempt <= options.max_retries; ++attempt) {
-            free_part.clear();
             frozen_part.clear();
+            for (Indices& part : patch_in) part.clear();
             for (std::size_t t = 0; t < current.size(); t += 3) {
                 const bool keep =
                     frozen[current[t]] || frozen[current[t + 1]] || frozen[current[t + 2]];
-                Indices& part = keep ? frozen_part : free_part;
+                Indices& part = keep ? frozen_part : patch_in[patches.of_triangle[t / 3]];
                 part.insert(part.end(), &current[t], &current[t] + 3);
             }
-            if (free_part.empty()) break;
+            const std::size_t free_count = (current.size() - frozen_part.size()) / 3;
+            if (free_count == 0) break;
             const std::size_t free_goal =
                 goal > frozen_part.size() / 3 ? goal - frozen_part.size() / 3 : 0;
-            // The frozen triangles are left out: the hole's rim must then stay where it is.
-            const unsigned flags = frozen_part.empty() ? 0u : unsigned(meshopt_SimplifyLockBorder);
-            const float relative =
-                std::isfinite(error_left) && scale > 0.0f ? error_left / scale : 1e10f;
-            simplified.resize(free_part.size());
+            // The patches' goals add up to free_goal: each patch gets free_goal / free_count of
+            // its triangles, rounded on the running sum (per-patch rounding up stopped a step a
+            // few triangles short of a count, with nothing left to ask of any patch).
+            std::vector<std::size_t> patch_goal(patches.count);
+            std::uint64_t before_patch = 0;
+            for (std::size_t p = 0; p < patches.count; ++p) {
+                const std::uint64_t after_patch = before_patch + patch_in[p].size() / 3;
+                patch_goal[p] = std::size_t(std::uint64_t(free_goal) * after_patch / free_count -
+                                            std::uint64_t(free_goal) * before_patch / free_count);
+                before_patch = after_patch;
+            }
+            for_each_chunk(patches.count, 1, [&](std::size_t, std::size_t p, std::size_t) {
+                if (!dirty[p]) return;
+                const std::size_t size = patch_in[p].size() / 3;
+                patch_out[p] = patch_goal[p] < size ? simplify_patch(patch_in[p], mesh.positions,
+                                                                     patch_goal[p], error_left)
+                                                    : PatchResult{patch_in[p], 0.0f};
+            });
+            free_part.clear();
+            simplified.clear();
             float step_error = 0.0f;
-            simplified.resize(meshopt_simplify(
-                simplified.data(), free_part.data(), free_part.size(), xyz, vertex_count,
-                sizeof(glm::vec3), free_goal * 3, relative, flags, &step_error));
+            for (std::size_t p = 0; p < patches.count; ++p) {
+                free_part.insert(free_part.end(), patch_in[p].begin(), patch_in[p].end());
+                simplified.insert(simplified.end(), patch_out[p].indices.begin(),
+                                  patch_out[p].indices.end());
+                step_error = std::max(step_error, patch_out[p].error);
+            }
             if (simplified.size() >= free_part.size()) break; // nothing more to collapse
             work.indices = frozen_part;
             work.indices.insert(work.indices.end(), simplified.begin(), simplified.end());
@@ -472,7 +591,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
                                           current_set, attempt > 0 ? &previous : nullptr, before);
             if (verdict.ok()) {
                 current = work.indices;
-                report.error += step_error * scale;
+                report.error += step_error;
                 ++report.steps;
                 accepted = true;
                 break;
@@ -482,7 +601,14 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             report.refused_intersections += verdict.intersections;
             report.refused_flips += verdict.flips;
             report.refused_degenerate += verdict.degenerate;
+            was_frozen = frozen;
             if (freeze(verdict.vertices) == 0) break;
+            // Only the patches that lost triangles to the freeze are simplified again.
+            std::fill(dirty.begin(), dirty.end(), 0);
+            for (std::size_t t = 0; t < current.size(); t += 3)
+                for (int k = 0; k < 3; ++k)
+                    if (frozen[current[t + k]] != was_frozen[current[t + k]])
+                        dirty[patches.of_triangle[t / 3]] = 1;
             previous = triangle_set(work.indices);
         }
         if (accepted) {
@@ -491,7 +617,7 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             // good left half of a scan's mesh untouchable: the rims of the frozen patches are
             // locked too).
             std::fill(frozen.begin(), frozen.end(), 0);
-            step = share;
+            step = step_share;
             shrinks = 0;
             continue;
         }
@@ -500,6 +626,13 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
         if (double(n) * step < 1.0 || ++shrinks > options.max_shrinks) break;
     }
     report.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), 1));
+    Components after = input_components;
+    count_components(current, after);
+    for (std::size_t k = 0; k < after.triangles.size(); ++k)
+        if (input_components.triangles[k] > 0 && after.triangles[k] == 0) {
+            ++report.vanished_components;
+            report.vanished_triangles += input_components.triangles[k];
+        }
     Decimated result{compact(mesh, current), report};
     result.report.achieved = result.mesh.triangle_count();
     result.report.euler_change = topology(result.mesh).euler - ref.euler;

@@ -12,26 +12,34 @@
 //   - topology: no edge of three or more triangles, no vertex of two fans, no edge used twice in
 //     one direction, where the input had none; no new boundary edge between vertices that were
 //     not on the input's boundary (a closed surface stays closed, an open one is open only
-//     where it was); no connected component vanishes. A tunnel narrower than the deviation may
-//     close (the genus falls, reported as euler_change; the surface stays closed and manifold),
-//     which a check of the whole surface's Euler characteristic would refuse with no place to
-//     point at (none closed on the carotid and the 4 mm head, measured);
+//     where it was); no connected component vanishes, except specks (below). A tunnel narrower
+//     than the deviation may close (the genus falls, reported as euler_change; the surface stays
+//     closed and manifold), which a check of the whole surface's Euler characteristic would
+//     refuse with no place to point at (none closed on the carotid and the 4 mm head, measured);
 //   - no new self-intersecting triangle pair (exact predicates, triangle_intersection.h);
 //   - no flipped triangle: a new triangle's normal must agree with the input's vertex normals at
 //     its corners (positive dot product with their sum);
 //   - no new degenerate triangle (metrics.h's kDegenerateHeightRatio).
+// Each step simplifies patches of the mesh (the triangles in one cell of a grid, about a thousand
+// each, the grid shifted by half a cell between steps) on their own, rims locked, in parallel.
 // The rest passed before, so only what a step changed is examined: its new triangles (flips,
 // shape, and intersections against the triangles near them, through a grid), and the edges and
 // fans of the vertices of triangles that came or went; a retry examines only the triangles its
 // refused predecessor did not have (vertices never move, so the verdicts on the others stand).
 // A step that breaks a rule is refused; the triangles around what broke it are frozen (kept as
-// they are, their ring locked) and the step is tried again without them; after
-// DecimationOptions::max_retries refusals, a step half as large is tried (at most max_shrinks
-// times in a row); the frozen triangles are free again once a step is accepted. What was refused,
-// and how much stayed frozen, is reported: a result never breaks a rule to reach the target.
+// they are, their ring locked) and only the patches that lost triangles to the freeze are
+// simplified again; after DecimationOptions::max_retries refusals, a step half as large is tried
+// (at most max_shrinks times in a row); the frozen triangles are free again once a step is
+// accepted. What was refused, and how much stayed frozen, is reported: a result never breaks a
+// rule to reach the target.
 //
-// Deterministic (meshoptimizer is single-threaded and the checks do not depend on the thread
-// count). Winding is kept: triangles keep the orientation of the input (see mesh.h).
+// Specks, components too small to keep a closed shape at the target's share of their
+// triangles, are removed whole before the first step (counted in the report), unless
+// DecimationOptions::keep_every_component: a speck left to the collapses folds into a flat
+// pillow that every step refuses, and keeping it spends the count on noise.
+//
+// Deterministic: the patches are independent, and neither they nor the checks depend on the
+// thread count. Winding is kept: triangles keep the orientation of the input (see mesh.h).
 #pragma once
 
 #include <cstddef>
@@ -55,6 +63,11 @@ struct DecimationOptions {
     // its halves all fail, smaller ones seldom pass and each costs max_retries tries (measured
     // on the scans: 4 lose no triangles against halving down to one triangle).
     int max_shrinks = 4;
+    // Specks, components of the input too small to keep a closed shape at the target's share
+    // of their triangles (fewer than 4 left: a tetrahedron), may vanish; true keeps every one.
+    // Noisy scans have hundreds (the 4 mm head: 178 of one voxel, 8 triangles each), and
+    // shrinking each to a tetrahedron would spend a 5 % count on noise.
+    bool keep_every_component = false;
 };
 
 // What decimate() did; counts are triangles unless said otherwise.
@@ -69,6 +82,8 @@ struct DecimationReport {
     std::size_t refused_topology = 0, refused_intersections = 0, refused_flips = 0,
                 refused_degenerate = 0;
     std::size_t frozen_vertices = 0; // vertices kept out of the last step's collapses
+    // Specks that vanished (DecimationOptions::keep_every_component), and their input triangles.
+    std::size_t vanished_components = 0, vanished_triangles = 0;
     bool stalled = false; // stopped short of the goal: no collapse was possible or allowed
     // Euler characteristic of the result minus the input's: +2 for each tunnel (handle) narrower
     // than the deviation that closed (0 on a sphere; noisy scans have many small tunnels).

@@ -4,7 +4,8 @@
 # own measures (watertight, no boundary edge, none off the border), and TetGen's `tetgen -pq`
 # (a constrained Delaunay tetrahedralisation with quality refinement) on the exported OFF file
 # ends with a tetrahedral mesh. The output files are not written (-NEF): TetGen's statistics
-# say how many tetrahedra it made. Usage: tetgen_fill_test.sh NAME (one of the volumes below);
+# say how many tetrahedra it made. Usage: tetgen_fill_test.sh NAME METHOD (one of the volumes
+# below; mc or snert: one test each, so that ctest -j spreads TetGen's minutes over the cores);
 # $SNERT is the binary, $SNERT_DATA_DIR the data folder. Exit 77 (skipped) without TetGen,
 # without the data, or where SNERT_LARGE_VOLUMES=0 (the sanitizer build; `make test` runs
 # them in an optimized build). On the two large volumes TetGen's quality
@@ -12,7 +13,9 @@
 # their MC meshes get `tetgen -p` (the constrained Delaunay tetrahedralisation, the step that
 # refuses overlapping or intersecting facets) unless SNERT_TETGEN_FULL=1; the output says so.
 set -u
-name=${1:?usage: tetgen_fill_test.sh NAME}
+name=${1:?usage: tetgen_fill_test.sh NAME METHOD}
+method=${2:?usage: tetgen_fill_test.sh NAME METHOD}
+case "$method" in mc | snert) ;; *) echo "tetgen_fill: unknown method '$method'"; exit 1 ;; esac
 data=${SNERT_DATA_DIR:-}
 if ! command -v tetgen >/dev/null; then
     echo "tetgen_fill: TetGen is not installed (Debian package tetgen), skipped"
@@ -59,14 +62,14 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 passes=0
-fail() { echo "FAIL: $name: $*"; failures=$((failures + 1)); }
+fail() { echo "FAIL: $name $method: $*"; failures=$((failures + 1)); }
 
 if "$SNERT" compare "${input[@]}" --close-border --mode snert --json "$tmp/c.json" >/dev/null 2>"$tmp/err"; then
-    if python3 - "$tmp/c.json" <<'PY'; then passes=$((passes + 1)); else fail "snert's measures"; fi
+    if python3 - "$tmp/c.json" "$method" <<'PY'; then passes=$((passes + 1)); else fail "snert's measures"; fi
 import json, sys
 j = json.load(open(sys.argv[1]))
 assert j["provenance"]["input"]["close_border"] is True
-for m in ("mc", "snert"):
+for m in (sys.argv[2],):
     f = j[m]
     facts = {k: f[k] for k in ("watertight", "manifold", "boundary_edges", "boundary_edges_off_border",
                                "self_intersections", "degenerate", "fe_ready")}
@@ -80,11 +83,10 @@ else
 fi
 
 TIMEFORMAT=%U
-for method in mc snert; do
-    off="$tmp/$method.off"
-    if ! "$SNERT" export "${input[@]}" --close-border --method "$method" --out "$off" >/dev/null 2>"$tmp/err"; then
-        fail "$method: snert export failed:"; cat "$tmp/err"; continue
-    fi
+off="$tmp/$method.off"
+if ! "$SNERT" export "${input[@]}" --close-border --method "$method" --out "$off" >/dev/null 2>"$tmp/err"; then
+    fail "snert export failed:"; cat "$tmp/err"
+else
     triangles=$(sed -n 2p "$off" | cut -d' ' -f2)
     # User CPU seconds of TetGen on stderr (bash's time), its report on stdout.
     switches=-pqNEF
@@ -96,13 +98,13 @@ for method in mc snert; do
     rc=$?
     tets=$(sed -n 's/^ *Mesh tetrahedra: *\([0-9]*\).*/\1/p' "$tmp/tetgen.txt")
     if [ "$rc" -ne 0 ] || [ -z "$tets" ] || [ "$tets" -eq 0 ]; then
-        fail "$method: tetgen $switches made no tetrahedral mesh of $triangles triangles (exit $rc):"
+        fail "tetgen $switches made no tetrahedral mesh of $triangles triangles (exit $rc):"
         tail -n 8 "$tmp/tetgen.txt"
     else
         echo "ok: $name $method: tetgen ${switches%NEF} filled $triangles triangles with $tets tetrahedra ($(cat "$tmp/time") s of CPU)"
         passes=$((passes + 1))
     fi
-done
+fi
 
-echo "tetgen_fill: $name: $passes passed, $failures failed"
+echo "tetgen_fill: $name $method: $passes passed, $failures failed"
 [ "$failures" -eq 0 ]

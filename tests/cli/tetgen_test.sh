@@ -3,9 +3,13 @@
 # predicates of its own) must find no intersecting facets in the MC and SNERT meshes of every
 # volume of the shared data folder, and on the smaller volumes must find as many intersecting
 # pairs as snert's own `self_intersections` says, whatever that number is (the large ones skip
-# that cross-check: it costs a second run of the pipeline). $SNERT is the binary, $SNERT_DATA_DIR the
-# data folder. Exit 77 (skipped) without TetGen or without the data.
+# that cross-check: it costs a second run of the pipeline). Usage: tetgen_test.sh NAME (one of
+# the volumes below: one test each, so that ctest -j spreads them). $SNERT is the binary,
+# $SNERT_DATA_DIR the data folder. Exit 77 (skipped) without TetGen or without the data, and
+# where SNERT_LARGE_VOLUMES=0 (the sanitizer build): TetGen's time is the same in every build,
+# so only the optimized one pays it (`make test` runs it there).
 set -u
+only=${1:?usage: tetgen_test.sh NAME}
 data=${SNERT_DATA_DIR:-}
 if ! command -v tetgen >/dev/null; then
     echo "tetgen: TetGen is not installed (Debian package tetgen), skipped"
@@ -15,14 +19,17 @@ if [ -z "$data" ] || [ ! -d "$data" ]; then
     echo "tetgen: shared data folder absent, skipped"
     exit 77
 fi
+if [ "${SNERT_LARGE_VOLUMES:-1}" = 0 ]; then
+    echo "tetgen: $only: skipped in the sanitizer build (make test runs it optimized)"
+    exit 77
+fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 passes=0
 
 # One line per volume: a name, whether to cross-check the counts, then the input arguments
-# (iso values from SOURCES.md). "large" ones are skipped where SNERT_LARGE_VOLUMES=0 (the
-# sanitizer build; `make test` runs them in an optimized build).
+# (iso values from SOURCES.md).
 volumes=(
     "headsq|count|$data/headsq/quarter.1 --raw 64,64,93 --raw-type uint16 --raw-spacing 3.2,3.2,1.5 --iso 500"
     "head_mr|count|$data/HeadMRVolume.mhd --iso 40"
@@ -41,13 +48,12 @@ tetgen_pairs() {
         sort -u | wc -l
 }
 
+known=0
 for entry in "${volumes[@]}"; do
     IFS='|' read -r name count arguments <<<"$entry"
+    [ "$name" = "$only" ] || continue
+    known=1
     read -r -a input <<<"$arguments"
-    if [ "$count" = large ] && [ "${SNERT_LARGE_VOLUMES:-1}" = 0 ]; then
-        echo "tetgen: $name: large, skipped here (make test checks it in an optimized build)"
-        continue
-    fi
     if [ ! -e "${input[0]}" ]; then
         echo "tetgen: $name: ${input[0]} absent, skipped"
         continue
@@ -88,5 +94,9 @@ for entry in "${volumes[@]}"; do
     done
 done
 
-echo "tetgen: $passes passed, $failures failed"
+if [ "$known" = 0 ]; then
+    echo "tetgen: unknown volume '$only'"
+    exit 1
+fi
+echo "tetgen: $only: $passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -6,6 +6,7 @@
 
 #include "core/decimation.h"
 #include "core/metrics.h"
+#include "core/parallel.h"
 #include "core/phantom.h"
 #include "core/pipeline.h"
 #include "core/triangle_intersection.h"
@@ -118,6 +119,68 @@ TEST(Decimation, RefusesStepsThatWouldIntersect) {
     EXPECT_GT(d.report.achieved, options.target_triangles);
     EXPECT_LT(d.report.achieved, shell.triangle_count());
     expect_valid_closed(d.mesh, 4);
+}
+
+// Specks of noise beside a sphere: octahedra (8 triangles) far from it. At 5 % of the triangles
+// an octahedron's share is under a tetrahedron's 4, so each goes, whole, and is counted; the
+// sphere alone is reduced. With keep_every_component they stay, as they are.
+Mesh sphere_with_specks(int specks) {
+    Mesh m = test::icosphere(5); // 20480 triangles, radius 1
+    for (int k = 0; k < specks; ++k) {
+        const Mesh o = test::octahedron(glm::vec3(3.0f + 0.5f * float(k), 0.0f, 0.0f), 0.1f);
+        const auto offset = std::uint32_t(m.positions.size());
+        m.positions.insert(m.positions.end(), o.positions.begin(), o.positions.end());
+        for (const std::uint32_t i : o.indices) m.indices.push_back(offset + i);
+    }
+    return m;
+}
+
+TEST(Decimation, SpecksTooSmallForTheirShareVanishWhole) {
+    const Mesh m = sphere_with_specks(5);
+    DecimationOptions options;
+    options.target_triangles = m.triangle_count() / 20;
+    const Decimated d = decimate(m, options);
+    EXPECT_EQ(d.report.vanished_components, 5u);
+    EXPECT_EQ(d.report.vanished_triangles, 40u);
+    EXPECT_LE(d.report.achieved, options.target_triangles);
+    EXPECT_FALSE(d.report.stalled);
+    for (const glm::vec3& p : d.mesh.positions) EXPECT_LT(glm::length(p), 1.01f);
+    expect_valid_closed(d.mesh, 2);
+
+    // At half the triangles an octahedron keeps its share (4): every speck stays.
+    options.target_triangles = m.triangle_count() / 2;
+    const Decimated half = decimate(m, options);
+    EXPECT_EQ(half.report.vanished_components, 0u);
+    expect_valid_closed(half.mesh, 12);
+
+    options.target_triangles = m.triangle_count() / 20;
+    options.keep_every_component = true;
+    const Decimated kept = decimate(m, options);
+    EXPECT_EQ(kept.report.vanished_components, 0u);
+    expect_valid_closed(kept.mesh, 12);
+    std::size_t far = 0;
+    for (const glm::vec3& p : kept.mesh.positions) far += glm::length(p) > 2.0f;
+    EXPECT_EQ(far, 30u) << "the octahedra's 6 corners each, untouched";
+}
+
+// The patches of a step run in parallel, each on its own: one thread or two, the same mesh.
+TEST(Decimation, ResultDoesNotDependOnTheThreadCount) {
+    const Mesh mc = test::phantom_mc(make_phantom("sphere", 64));
+    DecimationOptions options;
+    options.target_triangles = mc.triangle_count() / 10;
+    Decimated one, two;
+    {
+        const ThreadLimit limit(1);
+        one = decimate(mc, options);
+    }
+    {
+        const ThreadLimit limit(2);
+        two = decimate(mc, options);
+    }
+    EXPECT_EQ(one.mesh.indices, two.mesh.indices);
+    EXPECT_EQ(one.mesh.positions, two.mesh.positions);
+    EXPECT_EQ(one.report.steps, two.report.steps);
+    EXPECT_EQ(one.report.refusals, two.report.refusals);
 }
 
 TEST(Decimation, BadIndicesAreRejected) {
