@@ -18,18 +18,24 @@ release: setup
 run: release
 	bash scripts/run.sh $(RELEASE)/snert
 
+# The sanitizer builds' flags: -O1 (the level the sanitizers' documentation suggests) and line
+# tables only (-g1: the reports still name file and line), which compile in about half the time of
+# RelWithDebInfo's -O2 -g (measured on the heaviest files: 30 -> 17 s for the DICOM reader).
+SANITIZER_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+
 # What `make test` checks, in order: formatting (format-check); the whole build under
 # AddressSanitizer and UBSan with warnings as errors, and every test; the worker under
 # ThreadSanitizer; a build without the GUI, of everything it configures, and the `data` tests
 # there (optimized).
 test: format-check
-	cmake -S . -B $(TEST) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNERT_SANITIZE=address,undefined \
+	cmake -S . -B $(TEST) $(SANITIZER_FLAGS) -DSNERT_SANITIZE=address,undefined \
 		-DSNERT_WERROR=ON
 	cmake --build $(TEST) -j $(JOBS)
 	cd $(TEST) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 		ctest --output-on-failure -j $(JOBS)
 	@# The app's background worker under ThreadSanitizer: its test binary only (no GL).
-	cmake -S . -B $(TSAN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNERT_SANITIZE=thread \
+	cmake -S . -B $(TSAN) $(SANITIZER_FLAGS) -DSNERT_SANITIZE=thread \
 		-DSNERT_BUILD_BENCH=OFF
 	cmake --build $(TSAN) --target snert_app_worker_tests -j $(JOBS)
 	TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" $(TSAN)/tests/app/snert_app_worker_tests

@@ -9,7 +9,7 @@
 # $SNERT is the binary, $SNERT_DATA_DIR the data folder. Exit 77 (skipped) without TetGen,
 # without the data, or where SNERT_LARGE_VOLUMES=0 (the sanitizer build; `make test` runs
 # them in an optimized build). On the two large volumes TetGen's quality
-# refinement of Marching Cubes' slivers takes many minutes of CPU time (FLAIR: over 11), so there
+# refinement of Marching Cubes' slivers takes many minutes of CPU time (FLAIR: 34.5), so there
 # their MC meshes get `tetgen -p` (the constrained Delaunay tetrahedralisation, the step that
 # refuses overlapping or intersecting facets) unless SNERT_TETGEN_FULL=1; the output says so.
 set -u
