@@ -26,7 +26,7 @@ SANITIZER_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 
 # What `make test` checks, in order: formatting (format-check); the whole build under
 # AddressSanitizer and UBSan with warnings as errors, and every test; the worker under
-# ThreadSanitizer; a build without the GUI, of everything it configures, and the `data` tests
+# ThreadSanitizer; a build without the GUI of the command line and the `data` tests, which run
 # there (optimized).
 test: format-check
 	cmake -S . -B $(TEST) $(SANITIZER_FLAGS) -DSNERT_SANITIZE=address,undefined \
@@ -39,11 +39,12 @@ test: format-check
 		-DSNERT_BUILD_BENCH=OFF
 	cmake --build $(TSAN) --target snert_app_worker_tests -j $(JOBS)
 	TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" $(TSAN)/tests/app/snert_app_worker_tests
-	@# Without the GUI (no renderer, no app): all of it builds. The real-volume tests (label
-	@# `data`) run again there, optimized: the two large volumes, skipped under the sanitizers,
-	@# take a minute instead of ten.
+	@# Without the GUI (no renderer, no app): the command line builds. The real-volume tests
+	@# (label `data`) run again there, optimized: the two large volumes, skipped under the
+	@# sanitizers, take a minute instead of ten. Only what they run is built (the libraries and
+	@# unit tests compiled above, from the same sources).
 	cmake -S . -B $(CHECK) -DCMAKE_BUILD_TYPE=Release -DSNERT_BUILD_GUI=OFF -DSNERT_BUILD_BENCH=OFF
-	cmake --build $(CHECK) -j $(JOBS)
+	cmake --build $(CHECK) -j $(JOBS) --target snert snert_data_tests
 	cd $(CHECK) && ctest -L data --output-on-failure -j $(JOBS)
 
 # snert against VTK's flying edges (one thread) on the sphere and a 512 x 512 x 400 CT, as one

@@ -33,7 +33,6 @@ nlohmann::json decimation_json(const DecimationReport& r) {
               {"intersections", r.refused_intersections},
               {"flips", r.refused_flips},
               {"degenerate", r.refused_degenerate}}},
-            {"frozen_vertices", r.frozen_vertices},
             {"vanished_components", r.vanished_components},
             {"vanished_triangles", r.vanished_triangles},
             {"stalled", r.stalled},
@@ -68,11 +67,11 @@ void print_equal_count(std::ostream& out, const EqualCountRun& run,
     for (std::size_t i = 0; i < results.size() && i < run.reports.size(); ++i) {
         const DecimationReport& r = run.reports[i];
         out << "    " << name_of(results[i].method) << ": " << r.original << " -> " << r.achieved
-            << " triangles, " << r.refusals << " steps refused";
+            << " triangles, " << r.refusals << " tries refused";
         if (r.refusals > 0)
             out << " (topology " << r.refused_topology << ", intersections "
                 << r.refused_intersections << ", flips " << r.refused_flips << ", degenerate "
-                << r.refused_degenerate << "; " << r.frozen_vertices << " vertices kept)";
+                << r.refused_degenerate << ")";
         if (r.vanished_components > 0)
             out << "; " << r.vanished_components << " specks removed (" << r.vanished_triangles
                 << " triangles: too small for their share)";

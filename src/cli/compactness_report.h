@@ -28,9 +28,9 @@ EqualCountRun reduce_sources_to_equal_count(std::span<MethodResult> results,
                                             const Source& source, const PipelineOptions& pipeline,
                                             const Measured& measured);
 
-// {"original", "requested", "achieved", "refusals", "refused": {"topology", "intersections",
-// "flips", "degenerate"}, "frozen_vertices", "stalled", "euler_change", "error"} (error in world
-// units, mm).
+// {"original", "requested", "achieved", "steps", "refusals", "refused": {"topology",
+// "intersections", "flips", "degenerate"}, "vanished_components", "vanished_triangles",
+// "stalled", "euler_change", "error"} (error in world units, mm).
 nlohmann::json decimation_json(const DecimationReport& report);
 
 // {"triangles": reached, "target": target, "requested": N or null}

@@ -49,7 +49,7 @@ struct CompactnessPoint {
     // max = the larger of the two largest sampled distances (a sampled Hausdorff distance).
     double accuracy_mean = 0, accuracy_max = 0; // best 0
     double quality_mean = 0;                    // smallest / largest angle, world units (best 1)
-    int refusals = 0; // decimation steps refused on the way here (decimation.h)
+    int refusals = 0; // decimation tries refused on the way here (decimation.h)
 };
 
 // The curve of one (world) mesh on `volume`'s grid: one point per kCompactnessFractions, each

@@ -24,14 +24,15 @@
 // each, the grid shifted by half a cell between steps) on their own, rims locked, in parallel.
 // The rest passed before, so only what a step changed is examined: its new triangles (flips,
 // shape, and intersections against the triangles near them, through a grid), and the edges and
-// fans of the vertices of triangles that came or went; a retry examines only the triangles its
-// refused predecessor did not have (vertices never move, so the verdicts on the others stand).
-// A step that breaks a rule is refused; the triangles around what broke it are frozen (kept as
-// they are, their ring locked) and only the patches that lost triangles to the freeze are
-// simplified again; after DecimationOptions::max_retries refusals, a step half as large is tried
-// (at most max_shrinks times in a row); the frozen triangles are free again once a step is
-// accepted. What was refused, and how much stayed frozen, is reported: a result never breaks a
-// rule to reach the target.
+// fans of the vertices of triangles that came or went; a retry examines only the triangles that
+// its refused predecessor did not pass (vertices never move, so the verdicts on the others stand).
+// Where a try breaks a rule, the patches around what broke it are halved and each half is
+// simplified again on its own, down to patches of 16 triangles, which keep their triangles as
+// they are; the rest of the step keeps its collapses. So what cannot be reduced (on a noisy scan,
+// a few hundred thin places that pinch whenever they are collapsed) stays fine-grained in small
+// patches, and the step is accepted once every patch passes; a step that keeps nothing is tried
+// again half as large. What was refused is reported: a result never breaks a rule to reach the
+// target.
 //
 // Specks, components too small to keep a closed shape at the target's share of their
 // triangles, are removed whole before the first step (counted in the report), unless
@@ -57,11 +58,7 @@ struct DecimationOptions {
     float max_error = std::numeric_limits<float>::infinity();
     // Each step asks for at most this share of the triangles removed (0 < share <= 1).
     double step_share = 0.5;
-    // Refused tries allowed per step before decimate() stops where it is.
-    int max_retries = 12;
-    // Halvings of a refused step tried before decimate() stops where it is: where a step and
-    // its halves all fail, smaller ones seldom pass and each costs max_retries tries (measured
-    // on the scans: 4 lose no triangles against halving down to one triangle).
+    // Halvings of a step that collapsed nothing that passed, tried before decimate() stops.
     int max_shrinks = 4;
     // Specks, components of the input too small to keep a closed shape at the target's share
     // of their triangles (fewer than 4 left: a tetrahedron), may vanish; true keeps every one.
@@ -77,11 +74,10 @@ struct DecimationReport {
     std::size_t achieved = 0;  // triangles of the result
     float error = 0;           // meshoptimizer's deviation estimate summed over the steps (units)
     int steps = 0;             // steps accepted
-    int refusals = 0;          // tries refused by the checks (each retried with more frozen)
+    int refusals = 0;          // tries refused by the checks (each retried with the patches halved)
     // What the refused tries broke (summed over them): triangles flagged by each rule.
     std::size_t refused_topology = 0, refused_intersections = 0, refused_flips = 0,
                 refused_degenerate = 0;
-    std::size_t frozen_vertices = 0; // vertices kept out of the last step's collapses
     // Specks that vanished (DecimationOptions::keep_every_component), and their input triangles.
     std::size_t vanished_components = 0, vanished_triangles = 0;
     bool stalled = false; // stopped short of the goal: no collapse was possible or allowed

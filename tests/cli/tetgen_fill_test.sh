@@ -8,10 +8,11 @@
 # below; mc or snert: one test each, so that ctest -j spreads TetGen's minutes over the cores);
 # $SNERT is the binary, $SNERT_DATA_DIR the data folder. Exit 77 (skipped) without TetGen,
 # without the data, or where SNERT_LARGE_VOLUMES=0 (the sanitizer build; `make test` runs
-# them in an optimized build). On the two large volumes TetGen's quality
-# refinement of Marching Cubes' slivers takes many minutes of CPU time (FLAIR: 34.5), so there
-# their MC meshes get `tetgen -p` (the constrained Delaunay tetrahedralisation, the step that
-# refuses overlapping or intersecting facets) unless SNERT_TETGEN_FULL=1; the output says so.
+# them in an optimized build). On the two large volumes `tetgen -pq` spends minutes to half an
+# hour of CPU splitting the surface's facets (FLAIR's MC mesh: 34.5 min; the DICOM head's
+# stretched 1 x 1 x 4.8 mm SNERT mesh: 203 s), so there both meshes get `tetgen -pqY`: the same
+# quality refinement inside, the surface kept exactly as snert wrote it (11-21 s), which is
+# what an FE model built on the surface needs; SNERT_TETGEN_FULL=1 gives them -pq.
 set -u
 name=${1:?usage: tetgen_fill_test.sh NAME METHOD}
 method=${2:?usage: tetgen_fill_test.sh NAME METHOD}
@@ -90,9 +91,9 @@ else
     triangles=$(sed -n 2p "$off" | cut -d' ' -f2)
     # User CPU seconds of TetGen on stderr (bash's time), its report on stdout.
     switches=-pqNEF
-    if [ "$size" = large ] && [ "$method" = mc ] && [ "${SNERT_TETGEN_FULL:-0}" != 1 ]; then
-        switches=-pNEF
-        echo "tetgen_fill: $name mc: large, tetgen -p only (SNERT_TETGEN_FULL=1 for -pq)"
+    if [ "$size" = large ] && [ "${SNERT_TETGEN_FULL:-0}" != 1 ]; then
+        switches=-pqYNEF
+        echo "tetgen_fill: $name $method: large, tetgen -pqY, the surface kept (SNERT_TETGEN_FULL=1 for -pq)"
     fi
     { time tetgen $switches "$off" >"$tmp/tetgen.txt" 2>&1; } 2>"$tmp/time"
     rc=$?

@@ -31,12 +31,14 @@ TEST(Decimation, SphereReachesTheTargetClosedAndNearTheSphere) {
     ASSERT_GT(mc.triangle_count(), 18000u);
     // share of the triangles kept; bounds on the mean and largest distance to the exact sphere
     // (voxels) and on the enclosed volume lost, each about 1.3 times the measured value
-    // (mean / max / volume: 0.013 / 0.057 / 0.05 % at 50 %, 0.028 / 0.078 / 0.24 % at 25 %,
-    // 0.061 / 0.20 / 0.67 % at 10 %, 0.123 / 0.33 / 1.5 % at 5 %; radius 22.4 voxels).
+    // (mean / max / volume: 0.015 / 0.085 / 0.07 % at 50 %, 0.029 / 0.104 / 0.25 % at 25 %,
+    // 0.061 / 0.18 / 0.67 % at 10 %, 0.121 / 0.37 / 1.4 % at 5 %; radius 22.4 voxels). The
+    // largest distances at 50 and 25 % were 0.057 and 0.078 before refused patches were halved
+    // instead of frozen (a halved patch's collapses meet locked rims sooner).
     struct Level {
         double share, mean, max, volume_lost;
     };
-    for (const Level level : {Level{0.5, 0.017, 0.075, 0.001}, Level{0.25, 0.036, 0.10, 0.003},
+    for (const Level level : {Level{0.5, 0.017, 0.11, 0.001}, Level{0.25, 0.036, 0.135, 0.003},
                               Level{0.1, 0.08, 0.26, 0.009}, Level{0.05, 0.16, 0.43, 0.019}}) {
         SCOPED_TRACE(level.share);
         DecimationOptions options;
@@ -101,7 +103,8 @@ TEST(Decimation, ErrorGoalBoundsTheDeviation) {
 
 // A shell 1 % of its radius thick: two concentric spheres, the inner one facing inward. Chords
 // of the outer sphere dip 1 - cos(angle / 2) below it, so coarse triangles would cut through
-// the inner sphere: the checks refuse those steps and freeze what they would have broken.
+// the inner sphere: the checks refuse those tries, and the patches where they would cut through
+// keep their triangles.
 TEST(Decimation, RefusesStepsThatWouldIntersect) {
     Mesh shell = test::icosphere(4);
     const Mesh inner = test::flipped(test::icosphere(4));
@@ -114,7 +117,6 @@ TEST(Decimation, RefusesStepsThatWouldIntersect) {
     const Decimated d = decimate(shell, options);
     EXPECT_GT(d.report.refusals, 0);
     EXPECT_GT(d.report.refused_intersections, 0u);
-    EXPECT_GT(d.report.frozen_vertices, 0u);
     EXPECT_TRUE(d.report.stalled) << "the shell cannot reach 200 triangles without intersecting";
     EXPECT_GT(d.report.achieved, options.target_triangles);
     EXPECT_LT(d.report.achieved, shell.triangle_count());

@@ -1,4 +1,4 @@
-// Decimation on real scans: MC's and SNERT's meshes reduced towards a tenth of their triangles
+// Decimation on real scans: MC's and SNERT's meshes reduced towards 5 % of their triangles
 // stay FE-ready (manifold, open only at the volume border, no self-intersection, no zero-area
 // triangle), and the reduction gets at least as far as measured. Skipped without the data.
 #include <gtest/gtest.h>
@@ -17,11 +17,15 @@ namespace {
 struct DecimationCase {
     const char* file;
     float iso;
-    // Largest share of the triangles left when a tenth is asked: measured 0.100 on the carotid
-    // (both methods: the target), 0.100 (MC: the target) and 0.164 (SNERT) on the 4 mm head,
-    // whose thin parts pinch under meshoptimizer's collapses (it has no link condition). Before
-    // patches and specks (decimation.h), a quarter asked stopped at 0.25 and 0.306 there.
+    // Largest share of the triangles left when a twentieth is asked: measured 0.050 on the
+    // carotid (both methods: the target) and 0.062 (both) on the 4 mm head, whose thin parts
+    // pinch under meshoptimizer's collapses (it has no link condition), so patches of them stay
+    // as they were. Asked a tenth, the head had stopped at 0.164 when refused regions were frozen
+    // instead of halved, and at 0.306 of a quarter before patches and specks (decimation.h).
     double reached;
+    // Skipped under the sanitizers (SNERT_LARGE_VOLUMES=0), where the head's 1 700 refused tries
+    // take 100 s; `make test` runs it in the optimized build (18 s).
+    bool slow = false;
 };
 
 class DecimationOnRealVolume : public ::testing::TestWithParam<DecimationCase> {};
@@ -29,6 +33,10 @@ class DecimationOnRealVolume : public ::testing::TestWithParam<DecimationCase> {
 TEST_P(DecimationOnRealVolume, StaysFeReady) {
     SNERT_REQUIRE_DATA();
     const DecimationCase& c = GetParam();
+    if (c.slow && SNERT_LARGE_VOLUMES == 0)
+        GTEST_SKIP() << c.file
+                     << " is too slow under the sanitizers; `make test` runs it in an "
+                        "optimized build";
     const Volume volume = load_volume(test::data_file(c.file));
     PipelineOptions options;
     options.iso = c.iso;
@@ -40,7 +48,7 @@ TEST_P(DecimationOnRealVolume, StaysFeReady) {
         const MethodResult full = run_method(method, volume, nullptr, options, reference);
         ASSERT_TRUE(full.metrics.fe_ready);
         DecimationOptions d_options;
-        d_options.target_triangles = full.mesh.triangle_count() / 10;
+        d_options.target_triangles = full.mesh.triangle_count() / 20;
         const Decimated d = decimate(full.mesh, d_options);
         EXPECT_EQ(d.report.achieved, d.mesh.triangle_count());
         std::printf("%s: %zu -> %zu triangles (%.3f), %zu specks removed\n",
@@ -62,8 +70,8 @@ TEST_P(DecimationOnRealVolume, StaysFeReady) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, DecimationOnRealVolume,
-                         ::testing::Values(DecimationCase{"carotid.vtk", 190.0f, 0.101},
-                                           DecimationCase{"HeadMRVolume.mhd", 40.0f, 0.17}),
+                         ::testing::Values(DecimationCase{"carotid.vtk", 190.0f, 0.051},
+                                           DecimationCase{"HeadMRVolume.mhd", 40.0f, 0.065, true}),
                          [](const auto& param_info) {
                              return std::string(param_info.param.file).substr(0, 7);
                          });
