@@ -840,7 +840,7 @@ void App::draw_compactness_tab() {
         ImGui::TextDisabled("no surface to reduce");
         return;
     }
-    ImGui::Text("equal count: %zu triangles (MC %zu refused steps, %s %zu)", c->equal_count,
+    ImGui::Text("equal count: %zu triangles (tries refused: MC %zu, %s %zu)", c->equal_count,
                 std::size_t(c->mc_report.refusals),
                 std::string(label_of(c->net_equal->method)).c_str(),
                 std::size_t(c->net_report.refusals));
