@@ -57,22 +57,16 @@ struct Reference {
     long euler = 0;
 };
 
-// Area-weighted vertex normals of the triangles `indices`.
-void vertex_normals(const std::vector<glm::vec3>& positions, const Indices& indices,
-                    std::vector<glm::vec3>& normals) {
-    normals.assign(positions.size(), glm::vec3(0.0f));
-    for (std::size_t t = 0; t < indices.size(); t += 3) {
-        const std::uint32_t* i = &indices[t];
-        const glm::vec3 n =
-            glm::cross(positions[i[1]] - positions[i[0]], positions[i[2]] - positions[i[0]]);
-        for (int k = 0; k < 3; ++k) normals[i[k]] += n;
-    }
-}
-
 Reference make_reference(const Mesh& mesh) {
     Reference r;
-    vertex_normals(mesh.positions, mesh.indices, r.normals);
+    r.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
     r.boundary.assign(mesh.positions.size(), 0);
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const std::uint32_t* i = &mesh.indices[3 * t];
+        const glm::vec3 n = glm::cross(mesh.positions[i[1]] - mesh.positions[i[0]],
+                                       mesh.positions[i[2]] - mesh.positions[i[0]]);
+        for (int k = 0; k < 3; ++k) r.normals[i[k]] += n;
+    }
     mark_boundary(mesh.indices, r.boundary);
     const Topology topo = topology(mesh);
     r.manifold = topo.manifold;
@@ -459,11 +453,16 @@ PatchResult simplify_patch(const Indices& triangles, const std::vector<glm::vec3
     return result;
 }
 
-// The triangles of `c` with no corner among `vertices`.
-TriangleSet triangles_clear_of(const Indices& c, const std::vector<std::uint32_t>& vertices,
-                               std::size_t vertex_count) {
+// 1 for each vertex among `vertices`.
+std::vector<std::uint8_t> flags_of(const std::vector<std::uint32_t>& vertices,
+                                   std::size_t vertex_count) {
     std::vector<std::uint8_t> flagged(vertex_count, 0);
     for (const std::uint32_t v : vertices) flagged[v] = 1;
+    return flagged;
+}
+
+// The triangles of `c` with no flagged corner.
+TriangleSet triangles_clear_of(const Indices& c, const std::vector<std::uint8_t>& flagged) {
     TriangleSet set(c.size() / 3);
     for (std::size_t t = 0; t < c.size(); t += 3)
         if (!flagged[c[t]] && !flagged[c[t + 1]] && !flagged[c[t + 2]])
@@ -475,19 +474,16 @@ TriangleSet triangles_clear_of(const Indices& c, const std::vector<std::uint32_t
 // triangles as they are.
 constexpr std::size_t kSmallestSplitPatch = 16;
 
-// Where a step's retries are spent, the patches around what still breaks a rule are halved
-// (at the median of their triangles' centres along their longest side) and simplified again,
-// each half alone, so that what breaks is confined to ever smaller patches while the rest
-// keeps its collapses; a patch too small to halve keeps its triangles. On a noisy scan the
-// same few hundred thin places break every try, and a whole patch given back for each left
-// the last steps with almost nothing to do. Returns how many patches changed; `dirty` gets
-// the halves.
-std::size_t split_patches(const std::vector<std::uint32_t>& vertices, const Indices& current,
+// Where a try breaks a rule, the collapsed patches holding a `flagged` vertex are halved (at
+// the median of their triangles' centres along their longest side) and simplified again, each
+// half alone, so that what breaks is confined to ever smaller patches while the rest keeps its
+// collapses; a patch too small to halve keeps its triangles. On a noisy scan the same few
+// hundred thin places break every try, and freezing around each (the earlier way) took most of
+// the mesh out of the last steps. Returns how many patches changed; `dirty` gets the halves.
+std::size_t split_patches(const std::vector<std::uint8_t>& flagged, const Indices& current,
                           const std::vector<glm::vec3>& positions, Patches& patches,
                           std::vector<Indices>& patch_in, std::vector<PatchResult>& patch_out,
                           std::vector<std::uint8_t>& dirty) {
-    std::vector<std::uint8_t> flagged(positions.size(), 0);
-    for (const std::uint32_t v : vertices) flagged[v] = 1;
     const std::size_t count = patches.count;
     std::vector<std::uint8_t> split(count, 0);
     std::size_t changed = 0;
@@ -655,10 +651,11 @@ Decimated decimate(const Mesh& mesh, const DecimationOptions& options) {
             report.refused_intersections += verdict.intersections;
             report.refused_flips += verdict.flips;
             report.refused_degenerate += verdict.degenerate;
-            previous = triangles_clear_of(work.indices, verdict.vertices, vertex_count);
+            const std::vector<std::uint8_t> flagged = flags_of(verdict.vertices, vertex_count);
+            previous = triangles_clear_of(work.indices, flagged);
             std::fill(dirty.begin(), dirty.end(), 0);
-            if (split_patches(verdict.vertices, current, mesh.positions, patches, patch_in,
-                              patch_out, dirty) == 0)
+            if (split_patches(flagged, current, mesh.positions, patches, patch_in, patch_out,
+                              dirty) == 0)
                 break;
             // The halves may deviate no more than the patches that passed: squeezed between
             // locked rims towards the same share, they would spend the step's error where the
