@@ -68,7 +68,8 @@ def main():
         ("app: loaded -> MC shown", "%.2f s" % app["load_to_mc_shown_s"], ""),
         ("app: UI frame while computing", "%.1f / %.1f ms" % (app["frame_ms_mean"],
                                                               app["frame_ms_max"]),
-         "mean / max (target < 50 ms)"),
+         "mean / max (target < 50 ms); %d of %d frames over 50 ms" %
+         (app["frames_over_50_ms"], app["frames"])),
         ("app: step shown", "%.3f / %.3f s" % (app["step_latency_s_mean"],
                                               app["step_latency_s_max"]),
          "mean / max (target <= 0.3 s)"),

@@ -33,6 +33,9 @@ uniform vec3 poor_color;            // sRGB
 uniform bool wireframe;
 uniform float line_half_width;      // pixels on each side of an edge
 uniform vec3 line_color;            // sRGB
+#ifdef SNERT_DIRECT
+uniform int first_triangle;         // of this draw: a mesh drawn in parts restarts gl_PrimitiveID
+#endif
 
 vec3 to_linear(vec3 c) { return pow(c, vec3(2.2)); }
 vec3 to_srgb(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
@@ -64,7 +67,7 @@ void main() {
         vec3 facet = cross(dFdx(fragment_in.position_view), dFdy(fragment_in.position_view));
         n = dot(facet, facet) > 0.0 ? normalize(facet) : vec3(0.0, 0.0, 1.0);
     }
-    int triangle = gl_PrimitiveID;
+    int triangle = first_triangle + gl_PrimitiveID;
 #else
     vec3 n = normalize(shading == kSmooth ? fragment_in.normal_view
                                           : fragment_in.facet_normal_view);

@@ -21,6 +21,9 @@ out FragmentData {
     flat int triangle;
 } fragment_out;
 
+// The first triangle of this draw: a mesh drawn in parts numbers its triangles from 0 in each.
+uniform int first_triangle;
+
 void main() {
     vec3 facet = cross(vertex_in[1].position_view - vertex_in[0].position_view,
                        vertex_in[2].position_view - vertex_in[0].position_view);
@@ -31,7 +34,7 @@ void main() {
         fragment_out.normal_view = vertex_in[i].normal_view;
         fragment_out.barycentric = vec3(i == 0, i == 1, i == 2);
         fragment_out.facet_normal_view = facet;
-        fragment_out.triangle = gl_PrimitiveIDIn;
+        fragment_out.triangle = first_triangle + gl_PrimitiveIDIn;
         gl_Position = gl_in[i].gl_Position;
         EmitVertex();
     }

@@ -21,6 +21,6 @@ struct PreviewMesh {
 
 // Meshes with more than 2 x `target_triangles` triangles get a preview of about that many;
 // smaller ones none (empty).
-PreviewMesh make_preview(const Mesh& mesh, std::size_t target_triangles = 30000);
+PreviewMesh make_preview(const Mesh& mesh, std::size_t target_triangles = 6000);
 
 } // namespace snert::app

@@ -7,6 +7,7 @@
 //                        `snert compare` makes)
 //   curves_s             start to every iteration measured (the convergence curves)
 //   frame_ms_mean/max    UI thread's work per frame (poll to swap) while computing
+//   frames_over_50_ms    how many of those frames took longer than 50 ms
 //   step_latency_s_*     a step pressed to the frame that shows its iteration
 //   turn_fps             frames per second while the camera turns on every frame (once the
 //                        worker is idle)
@@ -32,6 +33,8 @@ class StatsSession {
     // After the frame was drawn and presented; `frame_ms` is the UI thread's time for it.
     void after_frame(const App& app, double frame_ms);
     bool done() const { return phase_ == Phase::Done; }
+    // Turning the camera stands for a drag, whose events wake every frame: no frame cap then.
+    bool turning() const { return phase_ == Phase::Turning; }
     // The figures as one JSON object (one line) and as a small table.
     std::string json() const;
     std::string table() const;

@@ -124,41 +124,97 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
     height = std::max(height, 1);
     const bool moving = !same_camera(camera, last_camera_);
     bool all = moving || !same_style(style, last_style_);
-    for (auto& target : targets_) {
+    for (std::size_t i = 0; i < kViews; ++i) {
+        auto& target = targets_[i];
         if (!target || target->width() != width || target->height() != height) {
             target = std::make_unique<render::RenderTarget>(width, height, 4);
+            parts_[i].reset();
             all = true;
         }
     }
     bool drew = false;
     const auto now = std::chrono::steady_clock::now();
+    const render::Viewport viewport{0, 0, width, height};
     for (std::size_t i = 0; i < kViews; ++i) {
-        const bool changed = all || dirty_[i];
-        bool rapid = false;
-        if (changed) {
-            rapid = now - last_change_[i] < kQuiet;
+        // Too many triangles for one frame: the preview now, the whole mesh in parts after.
+        const bool large = views_[i].has_preview() && views_[i].triangle_count() > part_triangles_;
+        if (all || dirty_[i]) {
+            const bool rapid = now - last_change_[i] < kQuiet;
             last_change_[i] = now;
-        } else if (!refine_[i] || now - last_change_[i] < kQuiet) {
-            continue; // its picture in the texture is still right (or right enough for now)
+            drawing_parts_[i] = false; // what it held shows what changed
+            const bool preview = views_[i].has_preview() && (moving || rapid || large);
+            draw_whole(i, viewport, camera, style, preview);
+            if (preview && large && !moving && !rapid) start_parts(i, viewport, style);
+            drew = true;
+        } else if (refine_[i] && !drawing_parts_[i] && now - last_change_[i] >= kQuiet) {
+            if (large) {
+                start_parts(i, viewport, style);
+            } else {
+                draw_whole(i, viewport, camera, style, false);
+                drew = true;
+            }
         }
-        const bool preview = changed && (moving || rapid) && views_[i].has_preview();
-        const render::RenderTarget& target = *targets_[i];
-        target.bind();
-        const render::Viewport viewport{0, 0, width, height};
-        renderer_.draw_background(viewport, style);
-        if (meshes_[i] && !views_[i].empty())
-            renderer_.draw(views_[i], camera, viewport, style, preview);
-        target.resolve();
-        dirty_[i] = false;
-        refine_[i] = preview;
-        ++(preview ? preview_draws_ : view_draws_)[i];
-        drew = true;
     }
+    // At most one part a frame, and none in a frame that drew anything else: the UI thread's
+    // share of software GL stays within a frame.
+    for (std::size_t i = 0; i < kViews && !drew; ++i)
+        if (drawing_parts_[i]) {
+            draw_next_part(i, viewport, camera, style);
+            drew = true;
+        }
     if (!drew) return;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     last_camera_ = camera;
     last_style_ = style;
     ++render_count_;
+}
+
+void ViewRenderer::draw_whole(std::size_t i, const render::Viewport& viewport,
+                              const render::OrbitCamera& camera, const render::DrawStyle& style,
+                              bool preview) {
+    const render::RenderTarget& target = *targets_[i];
+    target.bind();
+    renderer_.draw_background(viewport, style);
+    if (meshes_[i] && !views_[i].empty())
+        renderer_.draw(views_[i], camera, viewport, style, preview);
+    target.resolve();
+    dirty_[i] = false;
+    refine_[i] = preview;
+    ++(preview ? preview_draws_ : view_draws_)[i];
+}
+
+// The whole mesh goes into a second target, shown once complete; the first keeps the preview.
+void ViewRenderer::start_parts(std::size_t i, const render::Viewport& viewport,
+                               const render::DrawStyle& style) {
+    auto& parts = parts_[i];
+    if (!parts) parts = std::make_unique<render::RenderTarget>(viewport.width, viewport.height, 4);
+    parts->bind();
+    renderer_.draw_background(viewport, style);
+    parts_drawn_[i] = 0;
+    drawing_parts_[i] = true;
+}
+
+void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewport,
+                                  const render::OrbitCamera& camera,
+                                  const render::DrawStyle& style) {
+    parts_[i]->bind();
+    const auto start = std::chrono::steady_clock::now();
+    renderer_.draw_part(views_[i], camera, viewport, style, parts_drawn_[i], part_triangles_);
+    // Waited for, so the next part's size follows what this one cost (software GL draws on
+    // this thread; a GPU soon takes whole meshes in one part).
+    glFinish();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    parts_drawn_[i] += part_triangles_;
+    const double scale = std::clamp(kPartBudgetMs / std::max(ms, 0.01), 0.5, 2.0);
+    part_triangles_ = std::clamp(std::size_t(double(part_triangles_) * scale), kMinPartTriangles,
+                                 kMaxPartTriangles);
+    if (parts_drawn_[i] < views_[i].triangle_count()) return;
+    parts_[i]->resolve();
+    std::swap(targets_[i], parts_[i]);
+    drawing_parts_[i] = false;
+    refine_[i] = false;
+    ++view_draws_[i];
 }
 
 unsigned ViewRenderer::texture(int view) const {

@@ -23,6 +23,13 @@ class ViewRenderer {
   public:
     static constexpr int kViews = 2; // 0: Marching Cubes, 1: the net
     static constexpr std::chrono::milliseconds kQuiet{200};
+    // A mesh with more triangles than one frame can draw (the part size, adapted to what the
+    // last part cost) is drawn in parts over several frames into a second target, shown when
+    // complete, with its preview shown meanwhile.
+    static constexpr double kPartBudgetMs = 12.0;
+    static constexpr std::size_t kFirstPartTriangles = std::size_t(1) << 15;
+    static constexpr std::size_t kMinPartTriangles = std::size_t(1) << 12;
+    static constexpr std::size_t kMaxPartTriangles = std::size_t(1) << 26;
 
     ViewRenderer();
     ~ViewRenderer();
@@ -51,11 +58,14 @@ class ViewRenderer {
     // framebuffer binding at 0 afterwards (the caller binds its own).
     // While the camera moves (it differs from the last render's) or a view's mesh changes in
     // quick succession (the relaxation playing), a mesh with a preview is drawn as its preview;
-    // once nothing changed for kQuiet, the whole mesh is drawn again.
+    // once nothing changed for kQuiet, the whole mesh is drawn again. A mesh too large for one
+    // frame shows its preview until its parts, one a frame, are all drawn.
     void render(int width, int height, const render::OrbitCamera& camera,
                 const render::DrawStyle& style);
-    // A view shows its preview: the next render() draws the whole mesh even if nothing moved.
+    // A view shows its preview: later render()s draw the whole mesh even if nothing moved.
     bool needs_refine() const { return refine_[0] || refine_[1]; }
+    // Triangles a part holds now (tests; it adapts to the time parts take).
+    std::size_t part_triangles() const { return part_triangles_; }
     // The picture of a view (GL convention: row 0 at the bottom); 0 before the first render.
     unsigned texture(int view) const;
     // Calls of render() that drew anything (tests check that an unchanged frame draws nothing).
@@ -70,13 +80,24 @@ class ViewRenderer {
   private:
     void upload_preview(std::size_t view);
     void upload_values(std::size_t view); // the same mesh, the values of another measure
+    void draw_whole(std::size_t view, const render::Viewport& viewport,
+                    const render::OrbitCamera& camera, const render::DrawStyle& style,
+                    bool preview);
+    void start_parts(std::size_t view, const render::Viewport& viewport,
+                     const render::DrawStyle& style);
+    void draw_next_part(std::size_t view, const render::Viewport& viewport,
+                        const render::OrbitCamera& camera, const render::DrawStyle& style);
 
     render::MeshRenderer renderer_;
     std::array<render::MeshView, kViews> views_;
     std::array<std::shared_ptr<const DisplayMesh>, kViews> meshes_;
     std::array<std::unique_ptr<render::RenderTarget>, kViews> targets_;
     std::array<bool, kViews> dirty_{true, true};
-    std::array<bool, kViews> refine_{false, false}; // drawn as the preview
+    std::array<bool, kViews> refine_{false, false};                   // drawn as the preview
+    std::array<std::unique_ptr<render::RenderTarget>, kViews> parts_; // the whole mesh, in parts
+    std::array<bool, kViews> drawing_parts_{false, false};
+    std::array<std::size_t, kViews> parts_drawn_{}; // triangles drawn into parts_
+    std::size_t part_triangles_ = kFirstPartTriangles;
     std::array<std::chrono::steady_clock::time_point, kViews> last_change_{};
     std::array<std::shared_ptr<const PreviewMesh>, kViews> previews_; // uploaded
     std::array<int, kViews> view_draws_{}, preview_draws_{};

@@ -17,6 +17,7 @@
 
 #include "render/image.h"
 #include "stats_session.h"
+#include "view_renderer.h"
 
 namespace snert::app {
 
@@ -125,12 +126,29 @@ int run_window(const WindowOptions& options) {
     std::optional<StatsSession> stats;
     if (options.stats) stats.emplace();
     const auto started = std::chrono::steady_clock::now();
+    auto last_frame = started;
     while (!glfwWindowShouldClose(glfw.window) && !app->quit_requested()) {
-        // Sleep until an event while nothing changes; draw continuously while it does.
-        if (automation || app->animating())
+        // Sleep until an event while nothing changes. While something does, draw at most
+        // kMaxFramesPerSecond, an event waking the loop at once: software GL draws with the
+        // processor the worker computes with, and a faster redraw of the same panels shows
+        // nothing new. Screenshots are taken as fast as frames come, and the stats session's
+        // turn stands for a drag, whose events would wake every frame.
+        constexpr double kMaxFramesPerSecond = 15.0;
+        if (!options.screenshot_path.empty() || (stats && stats->turning())) {
             glfwPollEvents();
-        else
+        } else if (options.stats || app->animating()) {
+            const double wait =
+                1.0 / kMaxFramesPerSecond -
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - last_frame)
+                    .count();
+            if (wait > 0)
+                glfwWaitEventsTimeout(wait);
+            else
+                glfwPollEvents();
+        } else {
             glfwWaitEventsTimeout(0.5);
+        }
+        last_frame = std::chrono::steady_clock::now();
         if (glfwGetWindowAttrib(glfw.window, GLFW_ICONIFIED)) {
             glfwWaitEventsTimeout(0.1);
             continue;
@@ -171,7 +189,10 @@ int run_window(const WindowOptions& options) {
             continue;
         }
         if (automation) {
-            if (frames_after_result < 0 && first_result_ready(*app)) frames_after_result = 0;
+            // A view still drawn in parts shows its preview: the picture waits for the whole.
+            if (frames_after_result < 0 && first_result_ready(*app) &&
+                !app->view_renderer().needs_refine())
+                frames_after_result = 0;
             if (frames_after_result >= 0 && ++frames_after_result >= options.frames) {
                 // The input asked for must be the one shown: no fallback in a screenshot.
                 const std::string& error =

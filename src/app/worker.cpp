@@ -13,6 +13,11 @@
 #include "core/triangulation.h"
 #include "render/normals.h"
 
+#if defined(__linux__)
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
+
 namespace snert::app {
 
 namespace {
@@ -21,6 +26,16 @@ using Clock = std::chrono::steady_clock;
 
 // How long a frame asked for must stay the newest request before the measurer measures it.
 constexpr auto kDwell = std::chrono::milliseconds(250);
+
+// The UI thread draws with the processor too (software GL on a machine without a GPU): the
+// worker's threads, and the threads their parallel passes start (which inherit it), give way to
+// it, so frames stay short while the worker computes; alone, they still get every core.
+void give_way_to_the_ui() {
+#if defined(__linux__)
+    constexpr int kBackgroundNice = 10;
+    setpriority(PRIO_PROCESS, id_t(gettid()), kBackgroundNice); // best effort: speed only
+#endif
+}
 
 double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -261,6 +276,7 @@ void Worker::queue_iteration_measure(MeasureTask task) {
 }
 
 void Worker::measure_loop(std::stop_token thread_stop) {
+    give_way_to_the_ui();
     std::unique_lock lock(measure_mutex_);
     while (!thread_stop.stop_requested()) {
         const auto frame_due = [this] {
@@ -336,6 +352,7 @@ Progress Worker::stage_progress(Stage stage, std::stop_token stop) {
 }
 
 void Worker::run(std::stop_token thread_stop) {
+    give_way_to_the_ui();
     std::unique_lock lock(mutex_);
     while (!thread_stop.stop_requested()) {
         wake_.wait(lock, thread_stop, [this] {

@@ -7,6 +7,10 @@
 #include <stdexcept>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace snert {
 
 Volume make_volume(glm::ivec3 dims, float value) {
@@ -236,15 +240,39 @@ GradientField gradient_field_gaussian(const Volume& volume, float sigma) {
 }
 
 ValueRange value_range(const Volume& volume) {
-    ValueRange range{std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
-    bool any = false;
-    for (float v : volume.samples) {
-        if (!std::isfinite(v)) continue;
-        range.min = std::min(range.min, v);
-        range.max = std::max(range.max, v);
-        any = true;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    float lo = kInf, hi = -kInf;
+    const float* v = volume.samples.data();
+    const std::size_t n = volume.samples.size();
+    std::size_t i = 0;
+#if defined(__SSE2__)
+    // Four lanes at a time: a sample is finite exactly when v - v is 0 (NaN for NaN and the
+    // infinities); others enter as the identity of min and max. The compiler leaves the scalar
+    // loop unvectorised (min and max of floats are not associative for it).
+    const __m128 inf = _mm_set1_ps(kInf), zero = _mm_setzero_ps();
+    __m128 lo4 = inf, hi4 = _mm_sub_ps(zero, inf);
+    for (; i + 4 <= n; i += 4) {
+        const __m128 x = _mm_loadu_ps(v + i);
+        const __m128 finite = _mm_cmpeq_ps(_mm_sub_ps(x, x), zero);
+        lo4 = _mm_min_ps(lo4, _mm_or_ps(_mm_and_ps(finite, x), _mm_andnot_ps(finite, inf)));
+        hi4 = _mm_max_ps(
+            hi4, _mm_or_ps(_mm_and_ps(finite, x), _mm_andnot_ps(finite, _mm_sub_ps(zero, inf))));
     }
-    return any ? range : ValueRange{};
+    alignas(16) float lanes_lo[4], lanes_hi[4];
+    _mm_store_ps(lanes_lo, lo4);
+    _mm_store_ps(lanes_hi, hi4);
+    for (int k = 0; k < 4; ++k) {
+        lo = std::min(lo, lanes_lo[k]);
+        hi = std::max(hi, lanes_hi[k]);
+    }
+#endif
+    for (; i < n; ++i) {
+        if (!std::isfinite(v[i])) continue;
+        lo = std::min(lo, v[i]);
+        hi = std::max(hi, v[i]);
+    }
+    if (!(lo <= hi)) return ValueRange{}; // no finite sample
+    return ValueRange{lo, hi};
 }
 
 } // namespace snert

@@ -51,6 +51,18 @@ Histogram make_histogram(const Volume& volume, int bins, ValueRange range) {
     return h;
 }
 
+Histogram merge_bins(const Histogram& histogram, int factor) {
+    if (factor < 1 || histogram.counts.size() % std::size_t(factor) != 0)
+        throw std::invalid_argument("merge_bins: the factor must divide the bin count");
+    Histogram merged;
+    merged.lo = histogram.lo;
+    merged.hi = histogram.hi;
+    merged.counts.assign(histogram.counts.size() / std::size_t(factor), 0);
+    for (std::size_t b = 0; b < histogram.counts.size(); ++b)
+        merged.counts[b / std::size_t(factor)] += histogram.counts[b];
+    return merged;
+}
+
 float otsu_threshold(const Histogram& histogram) {
     const auto& c = histogram.counts;
     const double total = double(histogram.total());
@@ -88,7 +100,7 @@ float suggest_iso(const Volume& volume) {
 }
 
 float suggest_iso(const Volume& volume, ValueRange range) {
-    return otsu_threshold(make_histogram(volume, 256, range));
+    return otsu_threshold(make_histogram(volume, kIsoSuggestionBins, range));
 }
 
 // ---- Label maps ---------------------------------------------------------------------------------

@@ -27,6 +27,11 @@ Histogram make_histogram(const Volume& volume, int bins = 256);
 // The same where the volume's value_range() is known already (a loader has it): one pass over
 // the samples instead of two.
 Histogram make_histogram(const Volume& volume, int bins, ValueRange range);
+// Every `factor` neighbouring bins added into one: exactly make_histogram(volume, bins / factor)
+// (a bin index scaled by a power of two, floored, then halved is the coarser index), for a
+// factor that is a power of two dividing the bin count. Throws std::invalid_argument when the
+// factor does not divide it.
+Histogram merge_bins(const Histogram& histogram, int factor);
 
 // Otsu's threshold (Otsu 1979): the bin boundary that maximises the between-class variance
 // of the histogram. Returns the value between the last bin of the dark class and the first of
@@ -34,6 +39,7 @@ Histogram make_histogram(const Volume& volume, int bins, ValueRange range);
 float otsu_threshold(const Histogram& histogram);
 
 // The iso the CLI and the app suggest when none is given: Otsu on a 256-bin histogram.
+inline constexpr int kIsoSuggestionBins = 256;
 float suggest_iso(const Volume& volume);
 float suggest_iso(const Volume& volume, ValueRange range); // range: value_range(volume)
 

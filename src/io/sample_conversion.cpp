@@ -2,6 +2,7 @@
 #include "sample_conversion.h"
 
 #include <bit>
+#include <cstring>
 #include <stdexcept>
 
 namespace snert {
@@ -71,9 +72,23 @@ namespace {
 // starts at byte count*(4-s) + i*s and its float goes to bytes [4i, 4i+4): that end never
 // passes the start of sample i+1 (4(i+1) <= count*(4-s) + (i+1)*s since i+1 <= count), so
 // every sample is loaded before anything overwrites it.
+// In blocks of 16 where no bytes are swapped: a block is loaded whole before it is stored, so
+// the order above still holds (block stores end at 4(i + 16) <= count*(4-s) + (i + 16)*s, the
+// next block's start, for i + 16 <= count), and the compiler vectorises the conversion.
 template <class T>
 void widen(const unsigned char* stored, std::size_t count, bool swap, float* out) {
-    for (std::size_t i = 0; i < count; ++i)
+    std::size_t i = 0;
+    if (!swap) {
+        constexpr std::size_t kBlock = 16;
+        for (; i + kBlock <= count; i += kBlock) {
+            T block[kBlock];
+            std::memcpy(block, stored + i * sizeof(T), sizeof(block));
+            float wide[kBlock];
+            for (std::size_t k = 0; k < kBlock; ++k) wide[k] = static_cast<float>(block[k]);
+            std::memcpy(out + i, wide, sizeof(wide));
+        }
+    }
+    for (; i < count; ++i)
         out[i] = static_cast<float>(load_sample<T>(stored + i * sizeof(T), swap));
 }
 

@@ -183,13 +183,21 @@ void open_file(Source& source, const Progress& progress) {
     }
     source.volume = std::make_shared<const Volume>(std::move(loaded.volume));
     if (!spec.labels.empty()) open_labels(source, options, stored, cubic);
-    if (!source.mask) {
-        source.suggested_iso = suggest_iso(*source.volume, source.info->range);
-        source.suggested_inside = InsideIs::Above;
-        std::ostringstream reason;
-        reason << "the Otsu threshold " << source.suggested_iso << " of the histogram";
-        source.iso_reason = reason.str();
-    }
+}
+
+// The histogram shown (128 bins) and, for a grey-value file, the iso suggestion (suggest_iso()'s
+// Otsu threshold) from one pass over the samples: the one shown is the fine one merged.
+void measure_histograms(Source& source) {
+    // A file's loader measured the range already; a phantom's is measured here.
+    const ValueRange range = source.info ? source.info->range : value_range(*source.volume);
+    const Histogram fine = make_histogram(*source.volume, kIsoSuggestionBins, range);
+    source.histogram = merge_bins(fine, 2);
+    if (source.spec.is_phantom() || source.mask) return; // they have their own iso
+    source.suggested_iso = otsu_threshold(fine);
+    source.suggested_inside = InsideIs::Above;
+    std::ostringstream reason;
+    reason << "the Otsu threshold " << source.suggested_iso << " of the histogram";
+    source.iso_reason = reason.str();
 }
 
 } // namespace
@@ -207,9 +215,7 @@ Source open_source(const SourceSpec& spec, const Progress& progress) {
         open_phantom(source, name);
     else
         open_file(source, progress);
-    // A file's loader measured the range already; a phantom's is measured here.
-    source.histogram = make_histogram(
-        *source.volume, 128, source.info ? source.info->range : value_range(*source.volume));
+    measure_histograms(source);
     progress.update(1.0f);
     return source;
 }

@@ -1,6 +1,7 @@
 #include "mesh_view.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -381,7 +382,21 @@ void MeshRenderer::draw_background(const Viewport& viewport, const DrawStyle& st
 
 void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const Viewport& viewport,
                         const DrawStyle& style, bool preview) const {
-    preview = preview && mesh.has_preview();
+    draw_triangles(mesh, camera, viewport, style, preview && mesh.has_preview(), 0,
+                   mesh.triangle_count());
+}
+
+void MeshRenderer::draw_part(const MeshView& mesh, const OrbitCamera& camera,
+                             const Viewport& viewport, const DrawStyle& style, std::size_t first,
+                             std::size_t count) const {
+    first = std::min(first, mesh.triangle_count());
+    count = std::min(count, mesh.triangle_count() - first);
+    if (count > 0) draw_triangles(mesh, camera, viewport, style, false, first, count);
+}
+
+void MeshRenderer::draw_triangles(const MeshView& mesh, const OrbitCamera& camera,
+                                  const Viewport& viewport, const DrawStyle& style, bool preview,
+                                  std::size_t first, std::size_t count) const {
     if (mesh.empty() || viewport.width <= 0 || viewport.height <= 0) return;
     set_viewport(viewport);
     glEnable(GL_DEPTH_TEST);
@@ -405,6 +420,7 @@ void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const V
     glUniform1i(p.uniform("wireframe"), style.wireframe ? 1 : 0);
     glUniform1f(p.uniform("line_half_width"), 0.5f * style.line_width);
     glUniform3fv(p.uniform("line_color"), 1, glm::value_ptr(style.line_color));
+    glUniform1i(p.uniform("first_triangle"), preview ? 0 : GLint(first));
     glUniform1i(p.uniform("quality"), kQualityUnit);
     glUniform1i(p.uniform("colormap"), kColormapUnit);
     glActiveTexture(GL_TEXTURE0 + kQualityUnit);
@@ -420,7 +436,9 @@ void MeshRenderer::draw(const MeshView& mesh, const OrbitCamera& camera, const V
                        nullptr);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.index_buffer_); // the vertex array's own
     } else {
-        glDrawElements(GL_TRIANGLES, GLsizei(mesh.triangles_ * 3), GL_UNSIGNED_INT, nullptr);
+        const auto offset = static_cast<std::uintptr_t>(first * 3 * sizeof(GLuint));
+        glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(offset));
     }
     glBindVertexArray(0);
 

@@ -128,8 +128,16 @@ class MeshRenderer {
     // against what the viewport holds.
     void draw(const MeshView& mesh, const OrbitCamera& camera, const Viewport& viewport,
               const DrawStyle& style, bool preview = false) const;
+    // Draws `count` of the whole mesh's triangles from `first` (clamped to the mesh): a large
+    // mesh drawn in parts over several frames into the same target gives the picture of one
+    // draw, since the parts keep the triangles' order.
+    void draw_part(const MeshView& mesh, const OrbitCamera& camera, const Viewport& viewport,
+                   const DrawStyle& style, std::size_t first, std::size_t count) const;
 
   private:
+    void draw_triangles(const MeshView& mesh, const OrbitCamera& camera, const Viewport& viewport,
+                        const DrawStyle& style, bool preview, std::size_t first,
+                        std::size_t count) const;
     struct Programs;
     std::unique_ptr<Programs> programs_;
     GLuint colormap_texture_ = 0, diverging_texture_ = 0;

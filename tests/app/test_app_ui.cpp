@@ -18,6 +18,11 @@
 
 #include "app/headless.h"
 #include "app/view_renderer.h"
+#include "core/marching_cubes.h"
+#include "core/phantom.h"
+#include "render/camera.h"
+#include "render/gl.h"
+#include "render/normals.h"
 #include "core/triangle_distances.h"
 #include "core/triangle_pick.h"
 #include "support/read_mesh.h"
@@ -791,6 +796,102 @@ TEST(AppViews, PreviewWhileTheCameraMovesThenTheWholeMesh) {
     camera.orbit(0.1f, 0.0f);
     views.render(160, 120, camera, style);
     EXPECT_EQ(views.preview_draws(0), 2);
+    h->frame(); // the app's own target is bound again for its frame
+}
+
+namespace {
+
+// A view's picture, read back (RGBA, GL row order).
+std::vector<std::uint8_t> view_pixels(const ViewRenderer& views, int view, int width, int height) {
+    std::vector<std::uint8_t> pixels(std::size_t(width) * std::size_t(height) * 4);
+    glBindTexture(GL_TEXTURE_2D, views.texture(view));
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return pixels;
+}
+
+// Renders until the view shows its whole mesh; returns the renders that took.
+int render_until_whole(ViewRenderer& views, const render::OrbitCamera& camera,
+                       const render::DrawStyle& style) {
+    int renders = 0;
+    views.render(200, 150, camera, style); // a new camera: the preview
+    std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
+    do {
+        views.render(200, 150, camera, style);
+        ++renders;
+    } while (views.needs_refine() && renders < 10000);
+    return renders;
+}
+
+} // namespace
+
+// A mesh with more triangles than a part is drawn in parts, one a render, while its preview is
+// shown; the finished picture equals the one drawn in one piece, pixel for pixel (the parts
+// keep the triangles' order, and each numbers its triangles from its first for the colours).
+TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
+    auto h = make_app(1); // for its GL context
+    ASSERT_TRUE(h->run_until(settled));
+    const Phantom phantom = make_phantom("sphere", 120);
+    auto mesh = std::make_shared<DisplayMesh>();
+    mesh->mesh = marching_cubes(phantom.volume, {phantom.iso, InsideIs::Above});
+    mesh->measure_triangles();
+    mesh->normals = render::vertex_normals(mesh->mesh);
+    mesh->geometry = 1;
+    mesh->preview = std::make_shared<const PreviewMesh>(make_preview(mesh->mesh));
+    ASSERT_FALSE(mesh->preview->indices.empty());
+    // From the front (z up): the first triangles (low z) and the last both in the picture.
+    const render::OrbitCamera camera =
+        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    render::DrawStyle style;
+    style.shading = render::Shading::Quality; // the colours follow each triangle's index
+    std::vector<std::uint8_t> one;
+    for (const bool wireframe : {false, true}) { // without and with the geometry shader
+        style.wireframe = wireframe;
+        ViewRenderer views;
+        ASSERT_GT(mesh->mesh.triangle_count(), views.part_triangles());
+        views.set_mesh(0, mesh);
+        const int renders = render_until_whole(views, camera, style);
+        EXPECT_GE(renders, 2) << "drawn in parts";
+        EXPECT_EQ(views.view_draws(0), 1);
+        EXPECT_GE(views.preview_draws(0), 1);
+        const std::vector<std::uint8_t> parts = view_pixels(views, 0, 200, 150);
+
+        auto whole_mesh = std::make_shared<DisplayMesh>(*mesh);
+        whole_mesh->preview = nullptr; // no preview: drawn in one piece
+        ViewRenderer whole;
+        whole.set_mesh(0, whole_mesh);
+        EXPECT_EQ(render_until_whole(whole, camera, style), 1);
+        EXPECT_EQ(whole.view_draws(0), 1);
+        one = view_pixels(whole, 0, 200, 150);
+        // The sphere covers a good part of the picture: its pixels differ from the backdrop's.
+        ViewRenderer empty;
+        empty.render(200, 150, camera, style);
+        const std::vector<std::uint8_t> backdrop = view_pixels(empty, 0, 200, 150);
+        std::size_t covered = 0;
+        for (std::size_t k = 0; k < one.size(); k += 4)
+            covered += std::equal(&one[k], &one[k] + 3, &backdrop[k]) ? 0 : 1;
+        EXPECT_GT(covered, one.size() / 4 / 4) << "the sphere is in the picture";
+        EXPECT_TRUE(parts == one) << "the parts' picture differs from the one drawn in one piece"
+                                  << (wireframe ? " (wireframe)" : "");
+    }
+
+    // Another mesh while the parts are drawn: they start again, and only a finished picture
+    // counts as drawn.
+    ViewRenderer views;
+    views.set_mesh(0, mesh);
+    views.render(200, 150, camera, style); // the preview
+    std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
+    views.render(200, 150, camera, style); // the first part
+    ASSERT_TRUE(views.needs_refine());
+    auto moved = std::make_shared<DisplayMesh>(*mesh);
+    moved->geometry = 2;
+    views.set_mesh(0, moved);
+    views.render(200, 150, camera, style);
+    EXPECT_TRUE(views.needs_refine());
+    EXPECT_EQ(views.view_draws(0), 0);
+    for (int k = 0; views.needs_refine() && k < 10000; ++k) views.render(200, 150, camera, style);
+    EXPECT_EQ(views.view_draws(0), 1);
+    EXPECT_TRUE(view_pixels(views, 0, 200, 150) == one);
     h->frame(); // the app's own target is bound again for its frame
 }
 

@@ -168,6 +168,57 @@ TEST(Phantom, NoiseIsSeeded) {
               make_phantom("noisy-sphere", 16, 4).volume.samples);
 }
 
+// The range skips NaN and both infinities wherever they fall (in a lane of four or in the tail
+// after the last whole one), and is empty when no sample is finite.
+TEST(VolumeStats, RangeSkipsNonFiniteSamplesAnywhere) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const float odd[] = {std::numeric_limits<float>::quiet_NaN(), kInf, -kInf};
+    for (int size = 1; size <= 13; ++size)
+        for (int at = 0; at < size; ++at)
+            for (const float bad : odd) {
+                Volume v = make_volume({size, 1, 1});
+                for (int i = 0; i < size; ++i) v.samples[std::size_t(i)] = float(i * 3 % 7) - 2.0f;
+                v.samples[std::size_t(at)] = bad;
+                float lo = kInf, hi = -kInf;
+                for (const float s : v.samples) {
+                    if (!std::isfinite(s)) continue;
+                    lo = std::min(lo, s);
+                    hi = std::max(hi, s);
+                }
+                const ValueRange range = value_range(v);
+                if (size == 1) {
+                    EXPECT_EQ(range.min, 0.0f);
+                    EXPECT_EQ(range.max, 0.0f);
+                    continue;
+                }
+                EXPECT_EQ(range.min, lo) << size << " " << at;
+                EXPECT_EQ(range.max, hi) << size << " " << at;
+            }
+    Volume none = make_volume({9, 1, 1}, std::numeric_limits<float>::quiet_NaN());
+    none.samples[4] = kInf;
+    const ValueRange empty = value_range(none);
+    EXPECT_EQ(empty.min, 0.0f);
+    EXPECT_EQ(empty.max, 0.0f);
+}
+
+// Merging neighbouring bins by a power of two gives the coarser histogram exactly, also for
+// samples on the bins' edges (an integer ramp over a range of 2560 has one on every edge).
+TEST(VolumeStats, MergedBinsEqualTheCoarserHistogram) {
+    Volume v = make_volume({2561, 3, 1});
+    for (std::size_t i = 0; i < v.samples.size(); ++i) v.samples[i] = float(i % 2561) - 1024.0f;
+    const ValueRange range = value_range(v);
+    const Histogram fine = make_histogram(v, 256, range);
+    for (const int factor : {2, 4, 256}) {
+        const Histogram merged = merge_bins(fine, factor);
+        const Histogram direct = make_histogram(v, 256 / factor, range);
+        EXPECT_EQ(merged.lo, direct.lo);
+        EXPECT_EQ(merged.hi, direct.hi);
+        EXPECT_EQ(merged.counts, direct.counts) << factor;
+    }
+    EXPECT_THROW(merge_bins(fine, 3), std::invalid_argument);
+    EXPECT_THROW(merge_bins(fine, 0), std::invalid_argument);
+}
+
 // The range and the histogram equal a plain count, skip NaN and infinity, do not change with the
 // thread count, and the histogram of a known range (a loader's) equals the one that measures it.
 TEST(VolumeStats, RangeAndHistogramCountEveryFiniteSample) {

@@ -44,6 +44,14 @@ TEST(HeaderChecks, ConvertInPlaceEveryType) {
                 EXPECT_EQ(buffer[i], float(sample_values[i])) << scalar_type_name(type) << " " << i;
         }
     };
+    // Long enough for the blocks of 16 and a tail after them: each sample's float lands where
+    // it belongs, none overwritten before it is read.
+    const auto check_long = [&](ScalarType type, auto sample_values) {
+        auto repeated = sample_values;
+        for (std::size_t i = 0; repeated.size() < 16 * 5 + 3; ++i)
+            repeated.push_back(sample_values[(i * 7 + 3) % sample_values.size()]);
+        check(type, repeated);
+    };
     check(ScalarType::UInt8, std::vector<std::uint8_t>{0, 1, 127, 200, 255, 3, 4});
     check(ScalarType::Int8, std::vector<std::int8_t>{-128, -1, 0, 1, 127});
     check(ScalarType::UInt16, std::vector<std::uint16_t>{0, 1, 4095, 65535, 300});
@@ -51,6 +59,10 @@ TEST(HeaderChecks, ConvertInPlaceEveryType) {
     check(ScalarType::UInt32, std::vector<std::uint32_t>{0, 16777216, 7});
     check(ScalarType::Int32, std::vector<std::int32_t>{-16777216, 0, 5});
     check(ScalarType::Float32, std::vector<float>{-1.5f, 0.0f, 3.25e7f});
+    check_long(ScalarType::UInt8, std::vector<std::uint8_t>{0, 1, 127, 200, 255, 3, 4});
+    check_long(ScalarType::Int16, std::vector<std::int16_t>{-32768, -1024, 0, 1207, 32767});
+    check_long(ScalarType::UInt16, std::vector<std::uint16_t>{0, 1, 4095, 65535, 300});
+    check_long(ScalarType::Int32, std::vector<std::int32_t>{-16777216, 0, 5});
     std::vector<float> out(2);
     const double doubles[2] = {-2.5, 1e10};
     detail::convert_samples(doubles, 2, ScalarType::Float64, detail::native_endian(), out.data());
