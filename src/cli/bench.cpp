@@ -160,8 +160,7 @@ Runner add_bench(CLI::App& app) {
         std::unique_ptr<SurfaceNet> net;
         const Timing net_time = median_time(args->repeat, [&] {
             net.reset();
-            const Segmentation segmentation = segment_threshold(volume, iso, inside);
-            net = std::make_unique<SurfaceNet>(build_surface_net(segmentation));
+            net = std::make_unique<SurfaceNet>(build_surface_net(volume, iso, inside));
         });
         rows.push_back({"SurfaceNet build", net_time, per_second(net_time)});
 

@@ -144,15 +144,31 @@ int edge_across_face(int edge, int axis) {
     return edge - (o.x == axis ? 1 : 2);
 }
 
+// A sample's index in a grid of `dims` samples, x fastest.
+std::uint64_t sample_index(glm::ivec3 dims, int x, int y, int z) {
+    return (std::uint64_t(z) * std::uint64_t(dims.y) + std::uint64_t(y)) * std::uint64_t(dims.x) +
+           std::uint64_t(x);
+}
+
 // A grid edge as a number: its lower voxel's index * 3 + its axis.
-std::uint64_t edge_key(const Segmentation& s, glm::ivec3 cell, int edge) {
+std::uint64_t edge_key(glm::ivec3 dims, glm::ivec3 cell, int edge) {
     const int axis = edge / 4;
     const glm::ivec2 o = other_axes(axis);
     glm::ivec3 p = cell;
     p[o.x] += edge & 1;
     p[o.y] += (edge >> 1) & 1;
-    return std::uint64_t(s.index(p.x, p.y, p.z)) * 3 + std::uint64_t(axis);
+    return sample_index(dims, p.x, p.y, p.z) * 3 + std::uint64_t(axis);
 }
+
+// Where the inside bits come from: a segmentation's bytes, or the samples of a grey volume
+// against an iso (segment_threshold()'s rule, without its byte a voxel).
+struct InsideSource {
+    const Segmentation* segmentation = nullptr;
+    const Volume* volume = nullptr;
+    float iso = 0.0f;
+    InsideIs rule = InsideIs::Above;
+    glm::ivec3 dims() const { return segmentation ? segmentation->dims : volume->dims; }
+};
 
 // Where both segments of an ambiguous face join the same two pieces a and b, the net would
 // link a and b twice and the four quads of the face's crossed edges would all hold the side
@@ -507,10 +523,9 @@ const std::array<std::array<RingCell, 4>, 3>& quad_rings() {
 // node's id is known; then one pass that fills nodes, links and polygons, slab by slab.
 class NetBuilder {
   public:
-    NetBuilder(const Segmentation& segmentation, const Progress& progress)
-        : segmentation_(segmentation), progress_(progress), dims_(segmentation.dims),
-          cd_(dims_ - 1), bits_(dims_), cases_(&detail::marching_cubes_case(0)),
-          pieces_(surface_piece_table()),
+    NetBuilder(const InsideSource& source, const Progress& progress)
+        : source_(source), progress_(progress), dims_(source.dims()), cd_(dims_ - 1), bits_(dims_),
+          cases_(&detail::marching_cubes_case(0)), pieces_(surface_piece_table()),
           // Steps: planes classified, slabs counted, slabs filled.
           steps_(progress, std::size_t(dims_.z) + 2 * std::size_t(cd_.z)) {}
 
@@ -570,8 +585,19 @@ class NetBuilder {
     void classify_plane(int z) {
         steps_.step();
         for (int y = 0; y < dims_.y; ++y) {
-            const std::uint8_t* v = &segmentation_.inside[segmentation_.index(0, y, z)];
-            bits_.set_row(y, z, [&](int x) { return v[x] != 0; });
+            const std::size_t first = sample_index(dims_, 0, y, z);
+            if (source_.segmentation) {
+                const std::uint8_t* v = &source_.segmentation->inside[first];
+                bits_.set_row(y, z, [&](int x) { return v[x] != 0; });
+                continue;
+            }
+            // NaN compares false both ways: outside for either rule, as segment_threshold().
+            const float* v = &source_.volume->samples[first];
+            const float iso = source_.iso;
+            if (source_.rule == InsideIs::Above)
+                bits_.set_row(y, z, [&](int x) { return v[x] >= iso; });
+            else
+                bits_.set_row(y, z, [&](int x) { return v[x] <= iso; });
         }
     }
 
@@ -710,8 +736,8 @@ class NetBuilder {
                                                   c,
                                                   a,
                                                   b,
-                                                  {edge_key(segmentation_, c, face.edges[1][0]),
-                                                   edge_key(segmentation_, c, face.edges[1][1])},
+                                                  {edge_key(dims_, c, face.edges[1][0]),
+                                                   edge_key(dims_, c, face.edges[1][1])},
                                                   face.edges[1],
                                                   axis});
                             links.push_back({a, m});
@@ -766,7 +792,7 @@ class NetBuilder {
                     }
                     if (!here) std::swap(quad[1], quad[3]);
                     add_quad(out, quad, link_nodes, split_edges,
-                             segmentation_.index(x, y, z) * 3 + std::uint64_t(axis));
+                             sample_index(dims_, x, y, z) * 3 + std::uint64_t(axis));
                 }
             });
     }
@@ -804,7 +830,7 @@ class NetBuilder {
             }
     }
 
-    const Segmentation& segmentation_;
+    const InsideSource source_;
     const Progress& progress_;
     const glm::ivec3 dims_, cd_;
     detail::BitVolume bits_;
@@ -822,7 +848,17 @@ SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& p
     const glm::ivec3 dims = segmentation.dims;
     if (dims.x < 2 || dims.y < 2 || dims.z < 2) return {};
     progress.update(0.0f);
-    return NetBuilder(segmentation, progress).run();
+    return NetBuilder(InsideSource{&segmentation}, progress).run();
+}
+
+SurfaceNet build_surface_net(const Volume& volume, float iso, InsideIs rule,
+                             const Progress& progress) {
+    const glm::ivec3 dims = volume.dims;
+    if (dims.x < 2 || dims.y < 2 || dims.z < 2) return {};
+    if (volume.samples.size() != volume.voxel_count())
+        throw std::invalid_argument("surface net: the volume's samples do not fill its grid");
+    progress.update(0.0f);
+    return NetBuilder(InsideSource{nullptr, &volume, iso, rule}, progress).run();
 }
 
 } // namespace snert

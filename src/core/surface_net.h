@@ -84,6 +84,11 @@ inline NodeBox node_box(const SurfaceNet& net, std::size_t node) {
 // order, the same for any thread count. Progress is reported about once per slice and pass, one
 // call at a time and increasing; cancellation (Cancelled) is checked at the same points.
 SurfaceNet build_surface_net(const Segmentation& segmentation, const Progress& progress = {});
+// The net of segment_threshold(volume, iso, rule), node for node, without the segmentation's
+// byte a voxel: the samples are classified as the net is built. Throws std::invalid_argument
+// when the samples do not fill the grid.
+SurfaceNet build_surface_net(const Volume& volume, float iso, InsideIs rule,
+                             const Progress& progress = {});
 
 // The corners of polygon `id` of the net (quad q as q, fixed triangle t as quads.size() + t, the
 // numbering of `star`): 4 or 3 of them, in winding order.

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 #include <random>
 #include <stop_token>
 #include <vector>
@@ -99,6 +101,37 @@ TEST(ParallelMeshing, SurfaceNetIsTheSameForAnyThreadCount) {
             EXPECT_EQ(many.star, one.star);
         }
     }
+}
+
+// Built from the grey samples, the net is the one of their threshold, node for node, for
+// either rule, with samples at the iso and NaN (outside for both), on any thread count.
+TEST(ParallelMeshing, NetFromTheSamplesEqualsTheNetOfTheirThreshold) {
+    for (Volume v : test_volumes()) {
+        for (std::size_t k = 3; k < v.samples.size(); k += 101)
+            v.samples[k] = std::numeric_limits<float>::quiet_NaN();
+        for (const InsideIs rule : {InsideIs::Above, InsideIs::Below}) {
+            const SurfaceNet expected = build_surface_net(segment_threshold(v, 0.0f, rule));
+            ASSERT_GT(expected.node_count(), 0u);
+            for (const unsigned threads : {1u, 0u}) {
+                const SurfaceNet net =
+                    with_threads(threads, [&] { return build_surface_net(v, 0.0f, rule); });
+                EXPECT_EQ(net.cell_dims, expected.cell_dims);
+                EXPECT_EQ(net.cells, expected.cells);
+                EXPECT_EQ(net.pieces, expected.pieces);
+                EXPECT_EQ(net.regions, expected.regions);
+                EXPECT_EQ(net.positions, expected.positions);
+                EXPECT_EQ(net.link_offsets, expected.link_offsets);
+                EXPECT_EQ(net.links, expected.links);
+                EXPECT_EQ(net.quads, expected.quads);
+                EXPECT_EQ(net.triangles, expected.triangles);
+                EXPECT_EQ(net.star_offsets, expected.star_offsets);
+                EXPECT_EQ(net.star, expected.star);
+            }
+        }
+    }
+    Volume short_samples = make_volume({4, 4, 4});
+    short_samples.samples.pop_back();
+    EXPECT_THROW(build_surface_net(short_samples, 0.0f, InsideIs::Above), std::invalid_argument);
 }
 
 TEST(ParallelMeshing, NetHasSplitLinksInTheTestVolumes) {
