@@ -95,6 +95,7 @@ App::App(AppOptions options)
 
     WorkerOptions worker_options;
     worker_options.history_budget_bytes = std::size_t(settings_.history_budget_mb) << 20;
+    worker_options.give_way_to_the_ui = options_.background_worker;
     worker_ = std::make_unique<Worker>(worker_options);
     views_ = std::make_unique<ViewRenderer>();
 }

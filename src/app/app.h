@@ -65,9 +65,10 @@ struct AppOptions {
     // The relaxation's options (mode, weights, schedule, constraint, gradient, iterations,
     // epsilon, triangulation); iso and inside come from the two members above.
     std::optional<PipelineOptions> pipeline;
-    std::string settings_path;  // read at start, written by save_settings(); empty: none
-    bool show_timings = true;   // false: no wall-clock times on screen (snapshot tests)
-    float content_scale = 1.0f; // the monitor's scale (HiDPI): multiplies the text size
+    std::string settings_path;      // read at start, written by save_settings(); empty: none
+    bool show_timings = true;       // false: no wall-clock times on screen (snapshot tests)
+    float content_scale = 1.0f;     // the monitor's scale (HiDPI): multiplies the text size
+    bool background_worker = false; // the worker gives way to the window (WorkerOptions)
 };
 
 // The Open panel's fields that are not applied until Open is pressed (the label and the DICOM

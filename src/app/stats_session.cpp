@@ -24,6 +24,11 @@ double max(const std::vector<double>& v) {
     return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
 }
 
+// The largest after the first.
+double max_later(const std::vector<double>& v) {
+    return v.size() < 2 ? 0.0 : *std::max_element(v.begin() + 1, v.end());
+}
+
 std::size_t count_over(const std::vector<double>& v, double limit) {
     return std::size_t(std::count_if(v.begin(), v.end(), [&](double x) { return x > limit; }));
 }
@@ -104,14 +109,17 @@ std::string StatsSession::json() const {
         text, sizeof text,
         "{\"load_s\": %.3f, \"load_to_mc_shown_s\": %.3f, \"comparison_s\": %.3f, "
         "\"load_to_done_s\": %.3f, \"curves_s\": %.3f, \"frames\": %zu, \"frame_ms_mean\": %.2f, "
-        "\"frame_ms_max\": %.2f, \"frames_over_50_ms\": %zu, \"step_latency_s_mean\": %.3f, "
+        "\"frame_ms_max\": %.2f, \"frames_over_50_ms\": %zu, \"first_frame_ms\": %.2f, "
+        "\"frame_ms_max_later\": %.2f, \"step_latency_s_mean\": %.3f, "
         "\"step_latency_s_max\": %.3f, "
         "\"turn_fps\": %.2f, \"turn_frame_ms_max\": %.2f, \"mc_triangles\": %zu, "
         "\"net_triangles\": %zu, \"iterations\": %d}",
         load_s_, mc_shown_s_ - load_s_, done_s_, done_s_ - load_s_, curves_s_,
         computing_frames_ms_.size(), mean(computing_frames_ms_), max(computing_frames_ms_),
-        count_over(computing_frames_ms_, 50.0), mean(step_latencies_s_), max(step_latencies_s_),
-        turn_fps, max(turning_frames_ms_), mc_triangles_, net_triangles_, iterations_);
+        count_over(computing_frames_ms_, 50.0),
+        computing_frames_ms_.empty() ? 0.0 : computing_frames_ms_.front(),
+        max_later(computing_frames_ms_), mean(step_latencies_s_), max(step_latencies_s_), turn_fps,
+        max(turning_frames_ms_), mc_triangles_, net_triangles_, iterations_);
     return text;
 }
 

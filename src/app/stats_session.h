@@ -8,6 +8,8 @@
 //   curves_s             start to every iteration measured (the convergence curves)
 //   frame_ms_mean/max    UI thread's work per frame (poll to swap) while computing
 //   frames_over_50_ms    how many of those frames took longer than 50 ms
+//   first_frame_ms       the first of them (it compiles the shaders and the font atlas)
+//   frame_ms_max_later   the largest of the others
 //   step_latency_s_*     a step pressed to the frame that shows its iteration
 //   turn_fps             frames per second while the camera turns on every frame (once the
 //                        worker is idle)

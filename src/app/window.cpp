@@ -114,6 +114,9 @@ int run_window(const WindowOptions& options) {
     float scale_x = 1.0f, scale_y = 1.0f;
     glfwGetWindowContentScale(glfw.window, &scale_x, &scale_y);
     app_options.content_scale = scale_y;
+    // A person's window (and the stats session, which measures it) keeps its frames short;
+    // a screenshot run only waits for the result.
+    app_options.background_worker = options.screenshot_path.empty();
     auto app = std::make_unique<App>(app_options);
     glfwSetWindowUserPointer(glfw.window, app.get());
     glfwSetDropCallback(glfw.window, on_drop);

@@ -30,7 +30,7 @@ constexpr auto kDwell = std::chrono::milliseconds(250);
 // The UI thread draws with the processor too (software GL on a machine without a GPU): the
 // worker's threads, and the threads their parallel passes start (which inherit it), give way to
 // it, so frames stay short while the worker computes; alone, they still get every core.
-void give_way_to_the_ui() {
+void lower_this_threads_priority() {
 #if defined(__linux__)
     constexpr int kBackgroundNice = 10;
     setpriority(PRIO_PROCESS, id_t(gettid()), kBackgroundNice); // best effort: speed only
@@ -276,7 +276,7 @@ void Worker::queue_iteration_measure(MeasureTask task) {
 }
 
 void Worker::measure_loop(std::stop_token thread_stop) {
-    give_way_to_the_ui();
+    if (options_.give_way_to_the_ui) lower_this_threads_priority();
     std::unique_lock lock(measure_mutex_);
     while (!thread_stop.stop_requested()) {
         const auto frame_due = [this] {
@@ -352,7 +352,7 @@ Progress Worker::stage_progress(Stage stage, std::stop_token stop) {
 }
 
 void Worker::run(std::stop_token thread_stop) {
-    give_way_to_the_ui();
+    if (options_.give_way_to_the_ui) lower_this_threads_priority();
     std::unique_lock lock(mutex_);
     while (!thread_stop.stop_requested()) {
         wake_.wait(lock, thread_stop, [this] {

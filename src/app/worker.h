@@ -187,6 +187,10 @@ struct Message {
 
 struct WorkerOptions {
     std::size_t history_budget_bytes = std::size_t(256) << 20; // stored positions (see history)
+    // The worker's threads give way to the window's (a lower priority): for a window drawn by
+    // software GL beside the computation. Off for drivers that wait for the worker frame after
+    // frame (tests, headless), where it would only slow the worker down.
+    bool give_way_to_the_ui = false;
 };
 
 class Worker {

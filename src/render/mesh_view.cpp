@@ -436,9 +436,10 @@ void MeshRenderer::draw_triangles(const MeshView& mesh, const OrbitCamera& camer
                        nullptr);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.index_buffer_); // the vertex array's own
     } else {
-        const auto offset = static_cast<std::uintptr_t>(first * 3 * sizeof(GLuint));
-        glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT,
-                       reinterpret_cast<const void*>(offset));
+        // GL takes the offset into the bound index buffer as a pointer.
+        const void* offset = reinterpret_cast<const void*>( // NOLINT(performance-no-int-to-ptr)
+            static_cast<std::uintptr_t>(first * 3 * sizeof(GLuint)));
+        glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT, offset);
     }
     glBindVertexArray(0);
 
