@@ -140,4 +140,15 @@ class BitVolume {
     std::unique_ptr<Word[]> words_;
 };
 
+// Sets row (y, z) of `bits` from the grey samples `v` of that row against `iso`: inside where
+// v >= iso (`above`) or v <= iso. NaN compares false both ways, so it is outside for either rule,
+// as segment_threshold() has it.
+inline void set_threshold_row(BitVolume& bits, int y, int z, const float* v, float iso,
+                              bool above) {
+    if (above)
+        bits.set_row(y, z, [&](int x) { return v[x] >= iso; });
+    else
+        bits.set_row(y, z, [&](int x) { return v[x] <= iso; });
+}
+
 } // namespace snert::detail

@@ -421,11 +421,8 @@ class Extractor {
     void classify_plane(int z) {
         steps_.step();
         for (int y = 0; y < dims_.y; ++y) {
-            const float* v = volume_.samples.data() + volume_.index(0, y, z);
-            if (above_)
-                inside_.set_row(y, z, [&](int x) { return v[x] >= iso_; });
-            else
-                inside_.set_row(y, z, [&](int x) { return v[x] <= iso_; });
+            detail::set_threshold_row(
+                inside_, y, z, volume_.samples.data() + volume_.index(0, y, z), iso_, above_);
         }
     }
 

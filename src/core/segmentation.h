@@ -24,10 +24,7 @@ struct Segmentation {
     glm::ivec3 dims{0};
     std::vector<std::uint8_t> inside; // 1 inside, 0 outside; same layout as Volume::samples
 
-    std::size_t index(int x, int y, int z) const {
-        return (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x) +
-               std::size_t(x);
-    }
+    std::size_t index(int x, int y, int z) const { return grid_index(dims, x, y, z); }
     bool at(int x, int y, int z) const { return inside[index(x, y, z)] != 0; }
     std::size_t count_inside() const;
 };

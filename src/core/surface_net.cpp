@@ -144,12 +144,6 @@ int edge_across_face(int edge, int axis) {
     return edge - (o.x == axis ? 1 : 2);
 }
 
-// A sample's index in a grid of `dims` samples, x fastest.
-std::uint64_t sample_index(glm::ivec3 dims, int x, int y, int z) {
-    return (std::uint64_t(z) * std::uint64_t(dims.y) + std::uint64_t(y)) * std::uint64_t(dims.x) +
-           std::uint64_t(x);
-}
-
 // A grid edge as a number: its lower voxel's index * 3 + its axis.
 std::uint64_t edge_key(glm::ivec3 dims, glm::ivec3 cell, int edge) {
     const int axis = edge / 4;
@@ -157,7 +151,7 @@ std::uint64_t edge_key(glm::ivec3 dims, glm::ivec3 cell, int edge) {
     glm::ivec3 p = cell;
     p[o.x] += edge & 1;
     p[o.y] += (edge >> 1) & 1;
-    return sample_index(dims, p.x, p.y, p.z) * 3 + std::uint64_t(axis);
+    return std::uint64_t(grid_index(dims, p.x, p.y, p.z)) * 3 + std::uint64_t(axis);
 }
 
 // Where the inside bits come from: a segmentation's bytes, or the samples of a grey volume
@@ -585,19 +579,14 @@ class NetBuilder {
     void classify_plane(int z) {
         steps_.step();
         for (int y = 0; y < dims_.y; ++y) {
-            const std::size_t first = sample_index(dims_, 0, y, z);
+            const std::size_t first = grid_index(dims_, 0, y, z);
             if (source_.segmentation) {
                 const std::uint8_t* v = &source_.segmentation->inside[first];
                 bits_.set_row(y, z, [&](int x) { return v[x] != 0; });
                 continue;
             }
-            // NaN compares false both ways: outside for either rule, as segment_threshold().
-            const float* v = &source_.volume->samples[first];
-            const float iso = source_.iso;
-            if (source_.rule == InsideIs::Above)
-                bits_.set_row(y, z, [&](int x) { return v[x] >= iso; });
-            else
-                bits_.set_row(y, z, [&](int x) { return v[x] <= iso; });
+            detail::set_threshold_row(bits_, y, z, &source_.volume->samples[first], source_.iso,
+                                      source_.rule == InsideIs::Above);
         }
     }
 
@@ -792,7 +781,7 @@ class NetBuilder {
                     }
                     if (!here) std::swap(quad[1], quad[3]);
                     add_quad(out, quad, link_nodes, split_edges,
-                             sample_index(dims_, x, y, z) * 3 + std::uint64_t(axis));
+                             std::uint64_t(grid_index(dims_, x, y, z)) * 3 + std::uint64_t(axis));
                 }
             });
     }

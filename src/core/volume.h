@@ -15,6 +15,12 @@
 
 namespace snert {
 
+// A sample's index in a grid of `dims` samples, x fastest (the order of Volume::samples).
+inline std::size_t grid_index(glm::ivec3 dims, int x, int y, int z) {
+    return (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x) +
+           std::size_t(x);
+}
+
 struct Volume {
     glm::ivec3 dims{0};         // samples along x, y, z
     glm::vec3 spacing{1.0f};    // world distance between neighbouring samples, per axis
@@ -25,10 +31,7 @@ struct Volume {
     std::size_t voxel_count() const {
         return std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
     }
-    std::size_t index(int x, int y, int z) const {
-        return (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x) +
-               std::size_t(x);
-    }
+    std::size_t index(int x, int y, int z) const { return grid_index(dims, x, y, z); }
     float at(int x, int y, int z) const { return samples[index(x, y, z)]; }
     bool empty() const { return samples.empty(); }
 };
