@@ -568,7 +568,8 @@ void App::draw_relaxation_section() {
     ImGui::BeginDisabled(r.mode == RelaxMode::Averaging);
     name_combo("Gradient of", r.gradient);
     help_marker("How the grey-value gradient is estimated; a Gaussian derivative (sigma in "
-                "voxels) is steadier on noisy data.");
+                "voxels) is steadier on noisy data; the trilinear field's own gradient reads only "
+                "the 8 samples of the node's cell (fastest).");
     if (r.gradient == GradientMethod::Gaussian)
         ImGui::SliderFloat("Sigma", &r.gradient_sigma, 0.3f, 4.0f, "%.2f voxels");
     ImGui::EndDisabled();

@@ -176,11 +176,30 @@ Runner add_bench(CLI::App& app) {
             positions.swap(next);
         });
         const std::size_t nodes = net->node_count();
-        const double ns_per_node = nodes > 0 ? step.ms * 1e6 / double(nodes) : 0.0;
-        {
+        const auto per_node = [&](Timing t) {
+            return nodes > 0 ? t.ms * 1e6 / double(nodes) : 0.0;
+        };
+        const auto per_node_text = [&](Timing t) {
             std::ostringstream text;
-            text << std::fixed << std::setprecision(0) << ns_per_node << " ns/node";
-            rows.push_back({"SNERT iteration", step, text.str()});
+            text << std::fixed << std::setprecision(0) << per_node(t) << " ns/node";
+            return text.str();
+        };
+        const double ns_per_node = per_node(step);
+        rows.push_back({"SNERT iteration", step, per_node_text(step)});
+        // The same iterations with the gradient of the trilinear field (its 8 samples only).
+        std::optional<Timing> trilinear_step;
+        if (pipeline.relax.gradient != GradientMethod::Trilinear) {
+            RelaxOptions trilinear = pipeline.relax;
+            trilinear.gradient = GradientMethod::Trilinear;
+            const GreyField trilinear_grey = make_grey_field(volume, trilinear);
+            std::vector<glm::vec3> from = net->positions, to(from.size());
+            int number = 0;
+            trilinear_step = median_time(args->repeat, [&] {
+                relax_step(*net, &trilinear_grey, trilinear, ++number, from, to);
+                from.swap(to);
+            });
+            rows.push_back(
+                {"  trilinear gradient", *trilinear_step, per_node_text(*trilinear_step)});
         }
 
         // Every metric of the SNERT mesh, as compare measures it, and its distance to MC.
@@ -245,6 +264,8 @@ Runner add_bench(CLI::App& app) {
                                    {"relax_ms", step.ms},
                                    {"relax_cpu_ms", step.cpu_ms},
                                    {"relax_ns_per_node", ns_per_node},
+                                   {"relax_trilinear_ns_per_node",
+                                    trilinear_step ? per_node(*trilinear_step) : ns_per_node},
                                    {"metrics_ms", metrics.ms},
                                    {"to_mc_ms", to_mc.ms},
                                    {"compare_ms", compare.ms},

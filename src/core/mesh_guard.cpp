@@ -200,6 +200,15 @@ double normal_cos(const Triangle& a, const Triangle& b, std::span<const glm::vec
     return size > 0.0 ? glm::dot(na, nb) / size : 1.0;
 }
 
+// (b - a) x (c - a), as glm::cross gives it, from the coordinates one by one. With glm's vec3
+// copies GCC moved each corner through the stack in two pieces and read it back in others: the
+// stalled loads were a third of this file's time in a relaxation step.
+glm::vec3 edge_cross(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    const float ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+    const float vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+    return {uy * vz - vy * uz, uz * vx - vz * ux, ux * vy - vx * uy};
+}
+
 // True when the triangles of `node`'s star (its polygons split as `along_ac` says) certainly
 // meet only in shared corners and edges, shown without testing pairs: projected along the
 // star's mean normal, every triangle keeps its orientation and the star's rim turns once around
@@ -213,23 +222,31 @@ bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
     const int count = closed_fan(net, node, fans);
     if (count == 0) return false;
     const glm::vec3 centre = p[node];
-    Triangle triangles[2 * kMaxFans];
-    int triangle_count = 0;
     glm::vec3 rim[2 * kMaxFans]; // the corners around the node, from the node
     int rim_count = 0;
+    // The normals of the polygons' triangles, split as split_polygon() splits them (taken here
+    // corner by corner: its arrays of indices, copied through the stack, stalled the loads).
+    glm::vec3 triangle_normals[2 * kMaxFans];
+    int triangle_count = 0;
     glm::vec3 normal(0.0f);
+    const auto add_normal = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        triangle_normals[triangle_count] = edge_cross(p[a], p[b], p[c]);
+        normal += triangle_normals[triangle_count++];
+    };
     for (int k = 0; k < count; ++k) {
         const Fan& f = fans[k];
-        triangle_count +=
-            split_polygon(net, f.id, f.quad && along_ac[f.id] != 0, &triangles[triangle_count]);
+        if (!f.quad) {
+            const Triangle& t = net.triangles[f.id - net.quads.size()];
+            add_normal(t[0], t[1], t[2]);
+        } else if (const auto& q = net.quads[f.id]; along_ac[f.id] != 0) {
+            add_normal(q[0], q[1], q[2]);
+            add_normal(q[0], q[2], q[3]);
+        } else {
+            add_normal(q[0], q[1], q[3]);
+            add_normal(q[1], q[2], q[3]);
+        }
         rim[rim_count++] = p[f.next] - centre;
         if (f.quad) rim[rim_count++] = p[f.opposite] - centre;
-    }
-    glm::vec3 triangle_normals[2 * kMaxFans];
-    for (int t = 0; t < triangle_count; ++t) {
-        const glm::vec3 a = p[triangles[t][0]];
-        triangle_normals[t] = glm::cross(p[triangles[t][1]] - a, p[triangles[t][2]] - a);
-        normal += triangle_normals[t];
     }
     // positive(x, size2): x > 0 beyond float rounding, x being a product of vectors whose squared
     // sizes multiply to size2, and of the normal. Compared squared: no square roots.

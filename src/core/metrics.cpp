@@ -666,6 +666,7 @@ struct MeshDistance::Impl {
     glm::dvec3 origin{0.0};
     double cell = 1.0, inverse_cell = 1.0;
     glm::ivec3 dims{1};
+    double coordinate_size = 0; // the largest |coordinate| of the triangles' bounding box
     std::vector<std::uint32_t> cell_start;     // CSR over cells, size cells + 1
     std::vector<std::uint32_t> cell_triangles; // triangle ids
     std::vector<std::uint16_t> empty_shells;   // chessboard distance (cells) to an occupied cell
@@ -764,6 +765,8 @@ void MeshDistance::Impl::choose_grid() {
                       int(cells_along(extent.z)));
     origin = lo;
     inverse_cell = 1.0 / cell;
+    const glm::dvec3 size = glm::max(glm::abs(lo), glm::abs(hi));
+    coordinate_size = std::max({size.x, size.y, size.z});
 }
 
 // Lists each triangle in every cell its bounding box overlaps (count, prefix sum, fill).
@@ -925,8 +928,31 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         return std::numeric_limits<float>::quiet_NaN();
     const glm::dvec3 p(point);
     const glm::ivec3 home = cell_of(p);
+    // Queries come in runs of nearby points (a triangle's samples, one vertex after another), so
+    // the triangle nearest to this thread's previous point is usually near this one too: its
+    // exact distance, taken first, prunes most candidates at once. It is only a start: every
+    // test below prunes with a margin far above the rounding of the distances (relative, and
+    // absolute for the coordinates' size), so what is returned is the least distance to any
+    // triangle, whatever the start and so whatever the thread.
+    struct Hint {
+        const Impl* owner = nullptr;
+        std::uint32_t triangle = 0;
+    };
+    thread_local Hint hint;
+    constexpr double kMargin = 1.0 + 1e-9;
+    const double slack_root =
+        1e-6 * (coordinate_size + std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+    const double slack = slack_root * slack_root;
     double best = std::numeric_limits<double>::infinity(); // squared
     double best_root = best;
+    // What a lower bound of a squared distance must reach to rule a triangle out.
+    const auto beyond = [&](double lower_bound) { return lower_bound >= best * kMargin + slack; };
+    std::uint32_t nearest = 0;
+    if (hint.owner == this && hint.triangle < triangles.size()) {
+        nearest = hint.triangle;
+        best = squared_distance_to_triangle(p, triangles[nearest]);
+        best_root = std::sqrt(best);
+    }
     // Reused by each thread: no allocation per query.
     thread_local std::vector<Candidate> candidates;
     // Shells nearer than the distance transform says are empty are skipped.
@@ -934,28 +960,32 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         candidates.clear();
         for_each_occupied_cell(home, r, [&](glm::ivec3 c, std::size_t index) {
             const double d = squared_distance_to_cell(p, c);
-            if (d < best) candidates.push_back({d, index});
+            if (!beyond(d)) candidates.push_back({d, index});
         });
         // Nearest cells first, so that `best` shrinks early and prunes the rest.
         std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
             return x.squared_distance < y.squared_distance;
         });
         for (const Candidate& candidate : candidates) {
-            if (candidate.squared_distance >= best) break;
+            if (beyond(candidate.squared_distance)) break;
             for (std::uint32_t k = cell_start[candidate.cell]; k < cell_start[candidate.cell + 1];
                  ++k) {
-                const Triangle& t = triangles[cell_triangles[k]];
+                const std::uint32_t id = cell_triangles[k];
+                const Triangle& t = triangles[id];
                 const glm::dvec3 to_centre = p - glm::dvec3(t.centre);
-                const double reach = best_root + double(t.radius);
+                const double reach = best_root * kMargin + slack_root + double(t.radius);
                 if (glm::dot(to_centre, to_centre) >= reach * reach) continue; // sphere too far
                 // No point of a triangle is nearer than its plane (a degenerate one has a zero
-                // normal and passes).
+                // normal and passes). The float normal's rounding moves the height by at most
+                // 1e-6 of |p - a|, which the sphere test has just bounded.
                 const double height = glm::dot(p - glm::dvec3(t.a), glm::dvec3(t.unit_normal));
-                if (height * height >= best) continue;
+                const double plane = std::abs(height) - 1e-6 * (reach + double(t.radius));
+                if (plane > 0 && beyond(plane * plane)) continue;
                 const double d = squared_distance_to_triangle(p, t);
                 if (d < best) {
                     best = d;
                     best_root = std::sqrt(d);
+                    nearest = id;
                 }
             }
         }
@@ -969,8 +999,9 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
                 bound = std::min(bound, origin[k] + double(hi[k] + 1) * cell - p[k]);
         }
         if (bound == std::numeric_limits<double>::infinity()) break; // the whole grid is done
-        if (bound >= 0 && best <= bound * bound) break;
+        if (bound >= 0 && beyond(bound * bound)) break;
     }
+    hint = {this, nearest};
     return float(best_root);
 }
 

@@ -31,6 +31,7 @@ constexpr Named<Constraint> kConstraints[] = {
 constexpr Named<GradientMethod> kGradients[] = {
     {GradientMethod::Central, "central", "central differences"},
     {GradientMethod::Gaussian, "gaussian", "Gaussian derivative"},
+    {GradientMethod::Trilinear, "trilinear", "trilinear field (8 samples)"},
 };
 constexpr Named<TriangulationRule> kTriangulations[] = {
     {TriangulationRule::ShorterDiagonal, "shorter", "shorter diagonal"},

@@ -44,11 +44,14 @@ struct GradientStep {
     float d = 0.0f;       // distance to the iso-surface along g (eq. 4), same unit
 };
 
-// The grey value and its gradient at p: central differences from the samples around p's cell,
-// or the precomputed field.
+// The grey value and its gradient at p: from the precomputed field, the trilinear field's own,
+// or central differences from the samples around p's cell.
 ValueGradient grey_sample(const GreyField& grey, glm::vec3 p) {
-    if (grey.gradient.values.empty()) return sample_value_gradient(*grey.volume, p);
-    return {sample_trilinear(*grey.volume, p), sample_trilinear(grey.gradient, p)};
+    if (!grey.gradient.values.empty())
+        return {sample_trilinear(*grey.volume, p), sample_trilinear(grey.gradient, p)};
+    if (grey.method == GradientMethod::Trilinear)
+        return sample_trilinear_with_gradient(*grey.volume, p);
+    return sample_value_gradient(*grey.volume, p);
 }
 
 // g = SIGN(Iiso - I(p)) grad I / |grad I| (eq. 3), and d from a linear model of I along g:
@@ -198,6 +201,7 @@ GreyField make_grey_field(const Volume& volume, const RelaxOptions& options) {
     GreyField grey;
     grey.volume = &volume;
     grey.iso = options.iso;
+    grey.method = options.gradient;
     const float smallest = std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z});
     if (smallest > 0.0f && std::isfinite(smallest)) grey.scale = volume.spacing / smallest;
     if (options.gradient == GradientMethod::Gaussian)

@@ -30,7 +30,10 @@ namespace snert {
 enum class RelaxMode { Averaging, Gradient, Snert };
 enum class Schedule { Simultaneous, SmoothingFirst };
 enum class Constraint { RayBox, Clip };
-enum class GradientMethod { Central, Gaussian };
+// Central: central differences at the 8 corner samples, interpolated (the paper's); Gaussian:
+// Gaussian derivatives, precomputed for the volume; Trilinear: the trilinear field's own gradient
+// from the 8 corner samples alone (the fastest, but it jumps across cell faces).
+enum class GradientMethod { Central, Gaussian, Trilinear };
 
 struct RelaxOptions {
     RelaxMode mode = RelaxMode::Snert;
@@ -61,7 +64,8 @@ struct RelaxOptions {
 // Build it once per volume and options with make_grey_field.
 struct GreyField {
     const Volume* volume = nullptr;
-    GradientField gradient; // empty: central differences on the fly
+    GradientField gradient; // precomputed (Gaussian), or empty: `method` on the fly
+    GradientMethod method = GradientMethod::Central;
     float iso = 0.0f;
     glm::vec3 scale{1.0f}; // spacing / smallest spacing: index offsets to world shape
 };

@@ -107,10 +107,11 @@ namespace {
 // Along one axis, for the two corners of the cell at `base` (the second clamped to the grid as
 // trilinear() clamps it): the sample offsets of the corner and of its central-difference
 // neighbours (one-sided at the border), and the span between those, as central_difference()
-// takes them.
+// takes them. The span is 1 or 2, so a product with its inverse is exactly the quotient, at a
+// fraction of its cost.
 struct AxisOffsets {
     std::ptrdiff_t at[2], lo[2], hi[2];
-    float span[2];
+    float span[2], inverse[2];
 };
 
 AxisOffsets axis_offsets(int base, int n, std::ptrdiff_t stride) {
@@ -122,6 +123,7 @@ AxisOffsets axis_offsets(int base, int n, std::ptrdiff_t stride) {
         o.lo[c] = lo * stride;
         o.hi[c] = hi * stride;
         o.span[c] = float(hi - lo);
+        o.inverse[c] = hi > lo ? 1.0f / o.span[c] : 0.0f;
     }
     return o;
 }
@@ -144,9 +146,9 @@ ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p) {
                                      xy = ax.at[x] + ay.at[y];
                 value[z][y][x] = s[ax.at[x] + yz];
                 glm::vec3 g(0.0f);
-                if (ax.span[x] > 0.0f) g.x = (s[ax.hi[x] + yz] - s[ax.lo[x] + yz]) / ax.span[x];
-                if (ay.span[y] > 0.0f) g.y = (s[ay.hi[y] + xz] - s[ay.lo[y] + xz]) / ay.span[y];
-                if (az.span[z] > 0.0f) g.z = (s[az.hi[z] + xy] - s[az.lo[z] + xy]) / az.span[z];
+                if (ax.span[x] > 0.0f) g.x = (s[ax.hi[x] + yz] - s[ax.lo[x] + yz]) * ax.inverse[x];
+                if (ay.span[y] > 0.0f) g.y = (s[ay.hi[y] + xz] - s[ay.lo[y] + xz]) * ay.inverse[y];
+                if (az.span[z] > 0.0f) g.z = (s[az.hi[z] + xy] - s[az.lo[z] + xy]) * az.inverse[z];
                 gradient[z][y][x] = g;
             }
     // The same order of mixes as trilinear(), so both results equal the separate functions'.
@@ -158,6 +160,31 @@ ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p) {
         return glm::mix(glm::mix(c00, c10, cell.t.y), glm::mix(c01, c11, cell.t.y), cell.t.z);
     };
     return {mix3(value), mix3(gradient)};
+}
+
+ValueGradient sample_trilinear_with_gradient(const Volume& volume, glm::vec3 p) {
+    const Cell c = locate(volume.dims, p);
+    const int x1 = std::min(c.base.x + 1, volume.dims.x - 1);
+    const int y1 = std::min(c.base.y + 1, volume.dims.y - 1);
+    const int z1 = std::min(c.base.z + 1, volume.dims.z - 1);
+    const int x0 = c.base.x, y0 = c.base.y, z0 = c.base.z;
+    const float v000 = volume.at(x0, y0, z0), v100 = volume.at(x1, y0, z0);
+    const float v010 = volume.at(x0, y1, z0), v110 = volume.at(x1, y1, z0);
+    const float v001 = volume.at(x0, y0, z1), v101 = volume.at(x1, y0, z1);
+    const float v011 = volume.at(x0, y1, z1), v111 = volume.at(x1, y1, z1);
+    const glm::vec3 t = c.t;
+    // The value: trilinear()'s order of mixes, so it equals sample_trilinear().
+    const float c00 = glm::mix(v000, v100, t.x), c10 = glm::mix(v010, v110, t.x);
+    const float c01 = glm::mix(v001, v101, t.x), c11 = glm::mix(v011, v111, t.x);
+    const float c0 = glm::mix(c00, c10, t.y), c1 = glm::mix(c01, c11, t.y);
+    ValueGradient out;
+    out.value = glm::mix(c0, c1, t.z);
+    // d/dz is the difference of the two bilinear faces; d/dy and d/dx the same one level down.
+    out.gradient.z = c1 - c0;
+    out.gradient.y = glm::mix(c10 - c00, c11 - c01, t.z);
+    out.gradient.x = glm::mix(glm::mix(v100 - v000, v110 - v010, t.y),
+                              glm::mix(v101 - v001, v111 - v011, t.y), t.z);
+    return out;
 }
 
 glm::vec3 sample_trilinear(const GradientField& field, glm::vec3 p) {

@@ -539,6 +539,48 @@ TEST(MeshDistance, MatchesBruteForceOnBumpySphere) {
     }
 }
 
+// A query starts from the triangle nearest to the thread's previous point; the answer must not
+// depend on it, bit for bit (the metrics would otherwise depend on the thread count). Points at
+// ties are the hard ones: on the surface, at edge midpoints (two triangles equally near) and at
+// vertices, where rounding could let either triangle win.
+TEST(MeshDistance, AnswerDoesNotDependOnThePointBefore) {
+    Mesh m = icosphere(3);
+    for (glm::vec3& p : m.positions)
+        p = 40.0f * p * (1.0f + 0.15f * std::sin(5.0f * p.x) * std::cos(3.0f * p.y + p.z)) +
+            glm::vec3(100.0f, -50.0f, 300.0f); // world-like coordinates: rounding at their size
+    std::vector<glm::vec3> points;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3 * 7) {
+        const glm::vec3 a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
+                        c = m.positions[m.indices[t + 2]];
+        points.insert(points.end(), {a, 0.5f * (a + b), (a + b + c) / 3.0f,
+                                     (a + b + c) / 3.0f + 0.3f * glm::cross(b - a, c - a)});
+    }
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> box(-60.0f, 60.0f);
+    for (int i = 0; i < 100; ++i)
+        points.push_back(glm::vec3(100.0f, -50.0f, 300.0f) +
+                         glm::vec3(box(random), box(random), box(random)));
+    std::vector<float> first;
+    {
+        const MeshDistance fresh(m);
+        for (const glm::vec3& p : points) first.push_back(fresh(p));
+    }
+    const MeshDistance d(m);
+    const glm::vec3 centre(100.0f, -50.0f, 300.0f);
+    int compared = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const glm::vec3 p = points[i];
+        for (const glm::vec3 before : {2.0f * centre - p, centre, centre + glm::vec3(500.0f),
+                                       points[(i * 31 + 5) % points.size()], p}) {
+            (void)d(before);
+            ASSERT_EQ(d(p), first[i]) << "point " << i;
+            ++compared;
+        }
+        EXPECT_NEAR(first[i], brute_force_distance(m, p), 1e-4 * std::max(1.0f, first[i]));
+    }
+    EXPECT_EQ(compared, 5 * int(points.size()));
+}
+
 TEST(MeshDistance, ConcurrentQueriesAgree) {
     const MeshDistance d(icosphere(2));
     std::vector<glm::vec3> points;

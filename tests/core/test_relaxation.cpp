@@ -87,6 +87,18 @@ TEST(Relaxation, SnertFitsTheSphere) {
     EXPECT_LT(mean_reference_distance(p, r.result.positions), 0.015);
 }
 
+TEST(Relaxation, TrilinearGradientFitsTheSphereAsWell) {
+    const Phantom p = make_phantom("sphere", 64);
+    RelaxOptions o;
+    o.max_iterations = 40;
+    const double central = mean_reference_distance(p, relax_phantom(p, o).result.positions);
+    o.gradient = GradientMethod::Trilinear;
+    const double trilinear = mean_reference_distance(p, relax_phantom(p, o).result.positions);
+    // Measured: 0.00891 voxel, as with central differences (0.00891 too, not the same bits).
+    EXPECT_LT(trilinear, 0.0095) << "central: " << central;
+    EXPECT_NE(trilinear, central); // the option is honoured
+}
+
 TEST(Relaxation, AveragingShrinksAndSnertDoesNot) {
     const Phantom p = make_phantom("sphere", 48);
     const Mesh initial = [&] {

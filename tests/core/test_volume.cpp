@@ -75,6 +75,53 @@ TEST(Volume, ValueAndGradientTogetherEqualTheSeparateSamplers) {
     }
 }
 
+// The trilinear field's own gradient: the value is sample_trilinear's bit for bit, a linear
+// field's gradient is exact, and inside a cell it is the derivative of sample_trilinear.
+TEST(Volume, TrilinearGradientIsTheDerivativeOfTheTrilinearField) {
+    for (glm::ivec3 dims : {glm::ivec3(7, 6, 5), glm::ivec3(1, 4, 3), glm::ivec3(2, 1, 2)}) {
+        Volume v = make_volume(dims);
+        for (std::size_t i = 0; i < v.samples.size(); ++i)
+            v.samples[i] = std::sin(0.7f * float(i)) * 100.0f + float(i % 7);
+        std::uint32_t state = 4321u;
+        const auto next = [&] {
+            state = state * 1664525u + 1013904223u;
+            return float(state >> 8) / float(1u << 24);
+        };
+        int interior = 0;
+        for (int k = 0; k < 500; ++k) {
+            const glm::vec3 p = glm::vec3(next(), next(), next()) * (glm::vec3(dims) + 1.0f) - 0.5f;
+            const ValueGradient vg = sample_trilinear_with_gradient(v, p);
+            ASSERT_EQ(vg.value, sample_trilinear(v, p));
+            // Central differences of the field itself, where p and p +- h stay in one cell.
+            constexpr float h = 1e-2f;
+            const glm::vec3 f = glm::fract(p);
+            if (glm::any(glm::lessThan(f, glm::vec3(2 * h))) ||
+                glm::any(glm::greaterThan(f, glm::vec3(1 - 2 * h))) ||
+                glm::any(glm::lessThan(p, glm::vec3(0))) ||
+                glm::any(glm::greaterThan(p, glm::vec3(dims - 1))))
+                continue;
+            ++interior;
+            for (int a = 0; a < 3; ++a) {
+                glm::vec3 step(0.0f);
+                step[a] = h;
+                const float numeric =
+                    (sample_trilinear(v, p + step) - sample_trilinear(v, p - step)) / (2 * h);
+                EXPECT_NEAR(vg.gradient[a], numeric, 0.02f) << "axis " << a;
+            }
+        }
+        if (dims == glm::ivec3(7, 6, 5)) {
+            EXPECT_GT(interior, 100);
+        }
+    }
+    const Volume ramp = linear_ramp({6, 6, 6});
+    for (const glm::vec3 p : {glm::vec3(2.3f, 3.7f, 1.2f), glm::vec3(0.0f, 0.0f, 5.0f)}) {
+        const glm::vec3 g = sample_trilinear_with_gradient(ramp, p).gradient;
+        EXPECT_NEAR(g.x, 2.0f, 1e-5f);
+        EXPECT_NEAR(g.y, -3.0f, 1e-5f);
+        EXPECT_NEAR(g.z, 0.5f, 1e-5f);
+    }
+}
+
 TEST(Volume, GaussianGradientOfLinearFieldAwayFromBorder) {
     const Volume v = linear_ramp({16, 16, 16});
     const GradientField field = gradient_field_gaussian(v, 1.5f);
