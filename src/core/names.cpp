@@ -31,7 +31,7 @@ constexpr Named<Constraint> kConstraints[] = {
 constexpr Named<GradientMethod> kGradients[] = {
     {GradientMethod::Central, "central", "central differences"},
     {GradientMethod::Gaussian, "gaussian", "Gaussian derivative"},
-    {GradientMethod::Trilinear, "trilinear", "trilinear field (8 samples)"},
+    {GradientMethod::Trilinear, "trilinear", "trilinear field"},
 };
 constexpr Named<TriangulationRule> kTriangulations[] = {
     {TriangulationRule::ShorterDiagonal, "shorter", "shorter diagonal"},

@@ -30,9 +30,10 @@ namespace snert {
 enum class RelaxMode { Averaging, Gradient, Snert };
 enum class Schedule { Simultaneous, SmoothingFirst };
 enum class Constraint { RayBox, Clip };
-// Central: central differences at the 8 corner samples, interpolated (the paper's); Gaussian:
-// Gaussian derivatives, precomputed for the volume; Trilinear: the trilinear field's own gradient
-// from the 8 corner samples alone (the fastest, but it jumps across cell faces).
+// Trilinear: the trilinear field's own gradient from the 8 corner samples that give the value
+// (the default: the normal of the surface d is measured to, and the fastest; it jumps across
+// cell faces); Central: central differences at those samples, interpolated (the paper's);
+// Gaussian: Gaussian derivatives, precomputed for the volume.
 enum class GradientMethod { Central, Gaussian, Trilinear };
 
 struct RelaxOptions {
@@ -42,7 +43,7 @@ struct RelaxOptions {
     Schedule schedule = Schedule::Simultaneous;
     bool favour_accuracy = true; // SmoothingFirst: end each iteration with the gradient term
     Constraint constraint = Constraint::RayBox;
-    GradientMethod gradient = GradientMethod::Central;
+    GradientMethod gradient = GradientMethod::Trilinear;
     float gradient_sigma = 1.0f; // voxels, for GradientMethod::Gaussian
     float iso = 0.0f;            // Iiso of eq. 3
     int max_iterations = 20;     // stop after this many iterations
