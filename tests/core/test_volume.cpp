@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "core/parallel.h"
@@ -23,6 +24,23 @@ Volume linear_ramp(glm::ivec3 dims) {
                 v.samples[v.index(x, y, z)] = 2.0f * x - 3.0f * y + 0.5f * z + 7.0f;
     return v;
 }
+
+// Samples without structure, so that every corner and neighbour of a cell differs.
+Volume wavy_volume(glm::ivec3 dims) {
+    Volume v = make_volume(dims);
+    for (std::size_t i = 0; i < v.samples.size(); ++i)
+        v.samples[i] = std::sin(0.7f * float(i)) * 100.0f + float(i % 7);
+    return v;
+}
+
+// A seeded linear congruential sequence in [0, 1): the same points on every platform.
+struct UnitRandom {
+    std::uint32_t state;
+    float operator()() {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24);
+    }
+};
 
 } // namespace
 
@@ -55,14 +73,8 @@ TEST(Volume, CentralGradientOfLinearField) {
 // grid and on one-sample axes too, or a relaxation would change with it.
 TEST(Volume, ValueAndGradientTogetherEqualTheSeparateSamplers) {
     for (glm::ivec3 dims : {glm::ivec3(7, 6, 5), glm::ivec3(1, 4, 3), glm::ivec3(2, 1, 2)}) {
-        Volume v = make_volume(dims);
-        for (std::size_t i = 0; i < v.samples.size(); ++i)
-            v.samples[i] = std::sin(0.7f * float(i)) * 100.0f + float(i % 7);
-        std::uint32_t state = 12345u;
-        const auto next = [&] {
-            state = state * 1664525u + 1013904223u;
-            return float(state >> 8) / float(1u << 24);
-        };
+        const Volume v = wavy_volume(dims);
+        UnitRandom next{12345u};
         for (int k = 0; k < 500; ++k) {
             const glm::vec3 p = glm::vec3(next(), next(), next()) * (glm::vec3(dims) + 1.0f) - 0.5f;
             const ValueGradient vg = sample_value_gradient(v, p);
@@ -79,14 +91,8 @@ TEST(Volume, ValueAndGradientTogetherEqualTheSeparateSamplers) {
 // field's gradient is exact, and inside a cell it is the derivative of sample_trilinear.
 TEST(Volume, TrilinearGradientIsTheDerivativeOfTheTrilinearField) {
     for (glm::ivec3 dims : {glm::ivec3(7, 6, 5), glm::ivec3(1, 4, 3), glm::ivec3(2, 1, 2)}) {
-        Volume v = make_volume(dims);
-        for (std::size_t i = 0; i < v.samples.size(); ++i)
-            v.samples[i] = std::sin(0.7f * float(i)) * 100.0f + float(i % 7);
-        std::uint32_t state = 4321u;
-        const auto next = [&] {
-            state = state * 1664525u + 1013904223u;
-            return float(state >> 8) / float(1u << 24);
-        };
+        const Volume v = wavy_volume(dims);
+        UnitRandom next{4321u};
         int interior = 0;
         for (int k = 0; k < 500; ++k) {
             const glm::vec3 p = glm::vec3(next(), next(), next()) * (glm::vec3(dims) + 1.0f) - 0.5f;
