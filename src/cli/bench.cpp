@@ -168,13 +168,20 @@ Runner add_bench(CLI::App& app) {
         progress.stage("SNERT iteration").update(0.0f);
         PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
         pipeline.relax.mode = RelaxMode::Snert;
-        const GreyField grey = make_grey_field(volume, pipeline.relax);
-        std::vector<glm::vec3> positions = net->positions, next(positions.size());
-        int iteration = 0;
-        const Timing step = median_time(args->repeat, [&] {
-            relax_step(*net, &grey, pipeline.relax, ++iteration, positions, next);
-            positions.swap(next);
-        });
+        // Iterations 1 .. repeat of `options` from the net's positions, which end in `positions`.
+        const auto time_iterations = [&](const RelaxOptions& options,
+                                         std::vector<glm::vec3>& positions) {
+            const GreyField grey = make_grey_field(volume, options);
+            positions = net->positions;
+            std::vector<glm::vec3> next(positions.size());
+            int iteration = 0;
+            return median_time(args->repeat, [&] {
+                relax_step(*net, &grey, options, ++iteration, positions, next);
+                positions.swap(next);
+            });
+        };
+        std::vector<glm::vec3> positions;
+        const Timing step = time_iterations(pipeline.relax, positions);
         const std::size_t nodes = net->node_count();
         const auto per_node = [&](Timing t) {
             return nodes > 0 ? t.ms * 1e6 / double(nodes) : 0.0;
@@ -193,13 +200,8 @@ Runner add_bench(CLI::App& app) {
                                          : GradientMethod::Trilinear;
         RelaxOptions other_options = pipeline.relax;
         other_options.gradient = other;
-        const GreyField other_grey = make_grey_field(volume, other_options);
-        std::vector<glm::vec3> from = net->positions, to(from.size());
-        int number = 0;
-        const Timing other_step = median_time(args->repeat, [&] {
-            relax_step(*net, &other_grey, other_options, ++number, from, to);
-            from.swap(to);
-        });
+        std::vector<glm::vec3> other_positions;
+        const Timing other_step = time_iterations(other_options, other_positions);
         rows.push_back(
             {other == GradientMethod::Trilinear ? "  trilinear gradient" : "  central differences",
              other_step, per_node_text(other_step)});

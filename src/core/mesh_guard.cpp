@@ -238,12 +238,10 @@ bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
         if (!f.quad) {
             const Triangle& t = net.triangles[f.id - net.quads.size()];
             add_normal(t[0], t[1], t[2]);
-        } else if (const auto& q = net.quads[f.id]; along_ac[f.id] != 0) {
-            add_normal(q[0], q[1], q[2]);
-            add_normal(q[0], q[2], q[3]);
         } else {
-            add_normal(q[0], q[1], q[3]);
-            add_normal(q[1], q[2], q[3]);
+            const auto& q = net.quads[f.id];
+            for (const auto& t : kQuadSplitCorners[along_ac[f.id] != 0 ? 1 : 0])
+                add_normal(q[t[0]], q[t[1]], q[t[2]]);
         }
         rim[rim_count++] = p[f.next] - centre;
         if (f.quad) rim[rim_count++] = p[f.opposite] - centre;

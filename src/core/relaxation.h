@@ -66,7 +66,7 @@ struct RelaxOptions {
 struct GreyField {
     const Volume* volume = nullptr;
     GradientField gradient; // precomputed (Gaussian), or empty: `method` on the fly
-    GradientMethod method = GradientMethod::Central;
+    GradientMethod method = GradientMethod::Trilinear; // as RelaxOptions'
     float iso = 0.0f;
     glm::vec3 scale{1.0f}; // spacing / smallest spacing: index offsets to world shape
 };

@@ -23,11 +23,16 @@ Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
                  TriangulationRule rule = TriangulationRule::ShorterDiagonal,
                  glm::vec3 spacing = glm::vec3(1.0f));
 
-// The two triangles of quad q (winding kept): along its first diagonal q0-q2, or along q1-q3.
+// Which corners of a quad make its two triangles (winding kept), [along_ac][triangle][corner]:
+// along its first diagonal q0-q2, or along q1-q3.
+inline constexpr std::uint8_t kQuadSplitCorners[2][2][3] = {{{0, 1, 3}, {1, 2, 3}},
+                                                            {{0, 1, 2}, {0, 2, 3}}};
+
+// The two triangles of quad q (kQuadSplitCorners).
 inline std::array<std::array<std::uint32_t, 3>, 2>
 quad_triangles(const std::array<std::uint32_t, 4>& q, bool along_ac) {
-    if (along_ac) return {{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}};
-    return {{{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
+    const auto& c = kQuadSplitCorners[along_ac ? 1 : 0];
+    return {{{q[c[0][0]], q[c[0][1]], q[c[0][2]]}, {q[c[1][0]], q[c[1][1]], q[c[1][2]]}}};
 }
 
 // True when the quad a b c d (index space) splits along a-c under `rule`.
