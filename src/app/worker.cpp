@@ -83,10 +83,9 @@ MethodMetrics quick_metrics(const Mesh& mesh, std::span<const float> quality) {
 IterationStats measure_iteration(const RelaxContext& c, const DistanceFunction& reference,
                                  MeasureOptions what, int iteration, float max_move,
                                  std::span<const glm::vec3> positions) {
-    const Mesh index_mesh =
-        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+    Mesh mesh = triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
     what.convergence_only = true;
-    const MethodMetrics m = measure(index_mesh, *c.volume, reference, what);
+    const MethodMetrics m = measure_into_world(mesh, *c.volume, reference, what);
     IterationStats stats;
     stats.iteration = iteration;
     stats.max_move = max_move;
@@ -108,13 +107,12 @@ CompactnessMessage measure_compactness(const RelaxContext& c, const DistanceFunc
                                        Method net_method, int iteration,
                                        std::span<const glm::vec3> positions,
                                        std::uint64_t first_geometry) {
-    const Mesh index_mesh =
-        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+    Mesh mesh = triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
     std::vector<MethodResult> results(2);
     results[0] = {Method::MarchingCubes, mc.mesh, mc.metrics};
     results[1].method = net_method;
-    results[1].mesh = mesh_to_world(index_mesh, *c.volume);
-    results[1].metrics = measure(index_mesh, *c.volume, reference, what);
+    results[1].metrics = measure_into_world(mesh, *c.volume, reference, what);
+    results[1].mesh = std::move(mesh);
     CompactnessMessage m;
     m.mc_curve = compactness_curve(results[0].mesh, *c.volume);
     m.net_curve = compactness_curve(results[1].mesh, *c.volume);
@@ -707,10 +705,10 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
                  [context = job.context, reference = job.reference, what = job.options.measure,
                   frame, positions]() -> std::optional<Payload> {
                      const RelaxContext& c = *context;
-                     const Mesh index_mesh =
+                     Mesh mesh =
                          triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
                      auto measured = std::make_shared<DisplayMesh>(*frame);
-                     measured->metrics = measure(index_mesh, *c.volume, reference, what);
+                     measured->metrics = measure_into_world(mesh, *c.volume, reference, what);
                      measured->metrics_complete = true;
                      return FrameMetricsMessage{measured};
                  },
@@ -743,12 +741,11 @@ std::shared_ptr<const DisplayMesh> Worker::make_frame(Job& job, int iteration,
                                                       std::span<const glm::vec3> positions) {
     if (job.final_frame && job.final_frame->iteration == iteration) return job.final_frame;
     const RelaxContext& c = *job.context;
-    const Mesh index_mesh =
-        triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
     auto frame = std::make_shared<DisplayMesh>();
     frame->method = method_of(job.options.relax.mode);
     frame->iteration = iteration;
-    frame->mesh = mesh_to_world(index_mesh, *c.volume);
+    frame->mesh = triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
+    place_in_world(frame->mesh, *c.volume);
     frame->measure_triangles();
     frame->normals = render::vertex_normals(frame->mesh);
     frame->metrics = quick_metrics(frame->mesh, frame->shapes.quality);

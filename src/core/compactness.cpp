@@ -102,10 +102,11 @@ std::vector<CompactnessPoint> compactness_curve(const Mesh& mesh, const Volume& 
             // triangles, each a fraction of a voxel across: nine points on each would cost nine
             // times as much for the same figure within a small share of a voxel.
             const SurfaceDistance there = surface_distance(
-                level_index, [&](glm::vec3 q) { return to_full(q); }, &level, kSurfaceSampleSplit);
+                level_index, [&](glm::vec3 q) { return to_full(q); }, level.positions,
+                kSurfaceSampleSplit);
             const MeshDistance to_level(level_index);
             const SurfaceDistance back = surface_distance(
-                full_index, [&](glm::vec3 q) { return to_level(q); }, &mesh, 1);
+                full_index, [&](glm::vec3 q) { return to_level(q); }, mesh.positions, 1);
             p.accuracy_mean = 0.5 * (there.mean + back.mean);
             p.accuracy_max = std::max(there.max, back.max);
         }

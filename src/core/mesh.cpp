@@ -13,16 +13,24 @@ IndexToWorld index_to_world_map(const Volume& volume) {
 }
 
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {
-    Mesh out;
-    out.positions.reserve(mesh.positions.size());
+    Mesh out = mesh;
+    place_in_world(out, volume);
+    return out;
+}
+
+void place_in_world(Mesh& mesh, const Volume& volume) {
     const IndexToWorld to_world = index_to_world_map(volume);
-    const glm::mat3 linear = to_world.linear;
-    for (const glm::vec3& p : mesh.positions) out.positions.push_back(to_world(p));
-    out.indices = mesh.indices;
+    for (glm::vec3& p : mesh.positions) p = to_world(p);
     // A mirroring mapping (as NIfTI's RAS to LPS can be) turns the winding inside out.
-    if (glm::determinant(linear) < 0.0f)
-        for (std::size_t t = 0; t + 2 < out.indices.size(); t += 3)
-            std::swap(out.indices[t + 1], out.indices[t + 2]);
+    if (glm::determinant(to_world.linear) < 0.0f)
+        for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+            std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+std::vector<glm::vec3> points_to_world(std::span<const glm::vec3> points, const Volume& volume) {
+    const IndexToWorld to_world = index_to_world_map(volume);
+    std::vector<glm::vec3> out(points.size());
+    std::transform(points.begin(), points.end(), out.begin(), to_world);
     return out;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -24,6 +25,13 @@ struct Volume;
 // Applies the volume's index->world mapping to every vertex (index space -> millimetres).
 // Keeps the winding outward even when the mapping mirrors (negative determinant).
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume);
+
+// mesh_to_world in place, bit for bit: for a mesh not needed in index space afterwards, so that
+// a clinical mesh is not held twice.
+void place_in_world(Mesh& mesh, const Volume& volume);
+
+// The world points of index-space points, as mesh_to_world maps a mesh's vertices.
+std::vector<glm::vec3> points_to_world(std::span<const glm::vec3> points, const Volume& volume);
 
 // The map mesh_to_world applies to each point, to get bit for bit the same world points.
 struct IndexToWorld {

@@ -178,23 +178,23 @@ struct Accuracy {
 };
 // Mean and max of |distance(p)| over every vertex (mesh.positions), over every triangle's
 // centroid, and area-weighted over the sample points of every triangle; a signed distance works
-// too. The weights are the triangle areas of `area_mesh` when given (the same triangles in other
-// coordinates, e.g. the world copy of an index-space mesh), else of `mesh`. `distance` is called
-// from several threads at once, so it must be thread-safe (pure functions, MeshDistance and
-// volume sampling are). Deterministic. All zero for an empty mesh; the surface figures are zero
-// when the total area is.
+// too. The weights are the triangle areas of `mesh`'s triangles on `area_positions` when given (the
+// same vertices in other coordinates, e.g. an index-space mesh's world points), else on `mesh`'s.
+// `distance` is called from several threads at once, so it must be thread-safe (pure functions,
+// MeshDistance and volume sampling are). Deterministic. All zero for an empty mesh; the surface
+// figures are zero when the total area is.
 Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance,
-                  const Mesh* area_mesh = nullptr);
+                  std::span<const glm::vec3> area_positions = {});
 
 // The surface figures of accuracy() alone, at the split^2 sub-triangle centroids of a `split`-fold
 // split of every triangle (accuracy() uses kSurfaceSampleSplit; 1 is each triangle's centroid,
 // enough where the triangles are small against the distances measured). Throws
-// std::invalid_argument for split < 1 or an area mesh with other triangles.
+// std::invalid_argument for split < 1 or area points that are not one per vertex.
 struct SurfaceDistance {
     double mean = 0, max = 0;
 };
 SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& distance,
-                                 const Mesh* area_mesh, int split);
+                                 std::span<const glm::vec3> area_positions, int split);
 
 // Exact Euclidean distance from points to a triangle mesh, accelerated by a uniform grid in which
 // each triangle is listed in every cell its bounding box overlaps (cell size about the mean edge
@@ -204,8 +204,9 @@ SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& dista
 // Build once, query many times; queries are const and thread-safe; copies share the grid.
 class MeshDistance {
   public:
-    // Throws std::invalid_argument when `reference` has no triangles or a bad index.
-    explicit MeshDistance(const Mesh& reference);
+    // Throws std::invalid_argument when `reference` has no triangles or a bad index. Keeps the
+    // mesh (pass a temporary or std::move it to spare a copy).
+    explicit MeshDistance(Mesh reference);
     // Distance to the nearest point of any triangle; NaN for a non-finite point.
     float operator()(glm::vec3 p) const;
 

@@ -29,32 +29,42 @@ DistanceFunction first_order_distance(std::shared_ptr<const Volume> volume, floa
     };
 }
 
-MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
-                      const DistanceFunction& reference, const MeasureOptions& what) {
+MethodMetrics measure_into_world(Mesh& mesh, const Volume& volume,
+                                 const DistanceFunction& reference, const MeasureOptions& what) {
     MethodMetrics m;
-    const Mesh world = mesh_to_world(index_mesh, volume);
-    m.vertices = world.vertex_count();
-    m.triangles = world.triangle_count();
-    m.quality = quality_stats(world);
-    m.smoothness = smoothness(world);
-    if (reference) m.accuracy = accuracy(index_mesh, reference, &world);
+    m.vertices = mesh.vertex_count();
+    m.triangles = mesh.triangle_count();
+    // Index space first: the accuracy (weighted by the world areas), the border, the volume error.
+    if (reference) m.accuracy = accuracy(mesh, reference, points_to_world(mesh.positions, volume));
+    if (!what.convergence_only) {
+        // Connectivity only: the same in either space (a mirroring map flips every triangle).
+        m.topology = topology(mesh);
+        if (m.topology.boundary_edges > 0)
+            m.boundary_edges_off_border = boundary_edges_off_border(mesh, volume.dims);
+        // In index space, the reference's unit (the world volume differs by the voxel volume).
+        if (what.reference_volume > 0)
+            m.volume_error =
+                (enclosed_volume(mesh) - what.reference_volume) / what.reference_volume;
+    }
+    place_in_world(mesh, volume);
+    m.quality = quality_stats(mesh);
+    m.smoothness = smoothness(mesh);
     if (what.convergence_only) return m;
-    m.topology = topology(world);
-    if (m.topology.boundary_edges > 0)
-        m.boundary_edges_off_border = boundary_edges_off_border(index_mesh, volume.dims);
     // In world units: a mirroring or oblique index->world map keeps intersections as they are,
     // and the world mesh is what gets exported and handed to a mesher.
-    m.self_intersections = count_self_intersections(world);
+    m.self_intersections = count_self_intersections(mesh);
     m.fe_ready = m.triangles > 0 && m.boundary_edges_off_border == 0 && m.topology.manifold &&
                  m.self_intersections == 0 && m.quality.degenerate == 0;
-    m.fe = fe_readiness(world, m.topology, m.self_intersections);
-    m.area = surface_area(world);
-    m.volume = enclosed_volume(world);
-    // In index space, the reference's unit (the world volume differs by the voxel volume).
-    if (what.reference_volume > 0)
-        m.volume_error =
-            (enclosed_volume(index_mesh) - what.reference_volume) / what.reference_volume;
+    m.fe = fe_readiness(mesh, m.topology, m.self_intersections);
+    m.area = surface_area(mesh);
+    m.volume = enclosed_volume(mesh);
     return m;
+}
+
+MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
+                      const DistanceFunction& reference, const MeasureOptions& what) {
+    Mesh mesh = index_mesh;
+    return measure_into_world(mesh, volume, reference, what);
 }
 
 MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
@@ -64,9 +74,9 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
     const double ms = elapsed_ms(start);
     MethodResult result;
     result.method = Method::MarchingCubes;
-    result.metrics = measure(mesh, volume, reference, options.measure);
+    result.metrics = measure_into_world(mesh, volume, reference, options.measure);
     result.metrics.ms = ms;
-    result.mesh = mesh_to_world(mesh, volume);
+    result.mesh = std::move(mesh);
     return result;
 }
 
@@ -78,26 +88,31 @@ MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentatio
 
 namespace {
 
-// The relaxation, triangulation and metrics of a built net (its build began at `start`).
-MethodResult relax_net(const Volume& grey, const std::shared_ptr<const SurfaceNet>& net,
+// The relaxation, triangulation and metrics of a built net (its build began at `start`). The net
+// is let go (unless an observer keeps it) before the mesh is measured: on a clinical CT the net
+// and its positions weigh more than the mesh, and measuring is the run's peak of memory.
+MethodResult relax_net(const Volume& grey, std::shared_ptr<const SurfaceNet> net,
                        std::chrono::steady_clock::time_point start, const PipelineOptions& options,
                        const DistanceFunction& reference, const Progress& progress,
                        const NetObserver& observer) {
-    const auto field = std::make_shared<const GreyField>(make_grey_field(grey, options.relax));
+    auto field = std::make_shared<const GreyField>(make_grey_field(grey, options.relax));
     if (observer.on_net) observer.on_net(net, field);
-    const RelaxResult relaxed = relax(*net, field.get(), options.relax, observer.on_iteration,
-                                      observer.relax_progress.value_or(progress));
+    RelaxResult relaxed = relax(*net, field.get(), options.relax, observer.on_iteration,
+                                observer.relax_progress.value_or(progress));
     Mesh mesh = triangulate(*net, relaxed.positions, options.relax.triangulation, grey.spacing);
     const double ms = elapsed_ms(start);
+    relaxed.positions = {};
+    net.reset();
+    field.reset();
     MethodResult result;
     result.method = method_of(options.relax.mode);
-    result.metrics = measure(mesh, grey, reference, options.measure);
+    result.metrics = measure_into_world(mesh, grey, reference, options.measure);
     result.metrics.ms = ms;
     result.metrics.iterations = int(relaxed.max_moves.size());
     result.metrics.converged = relaxed.converged;
     result.metrics.final_max_move = relaxed.max_moves.empty() ? 0.0 : relaxed.max_moves.back();
     result.metrics.shortened_moves = relaxed.shortened_moves;
-    result.mesh = mesh_to_world(mesh, grey);
+    result.mesh = std::move(mesh);
     return result;
 }
 
@@ -107,8 +122,8 @@ MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentatio
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress, const NetObserver& observer) {
     const auto start = std::chrono::steady_clock::now();
-    const auto net = std::make_shared<const SurfaceNet>(build_surface_net(segmentation, progress));
-    return relax_net(grey, net, start, options, reference, progress, observer);
+    auto net = std::make_shared<const SurfaceNet>(build_surface_net(segmentation, progress));
+    return relax_net(grey, std::move(net), start, options, reference, progress, observer);
 }
 
 MethodResult run_method(Method method, const Volume& grey, const Segmentation* mask,
@@ -131,17 +146,29 @@ MethodResult run_method(Method method, const Volume& grey, const Segmentation* m
     // The threshold classified as the net is built: no byte a voxel (100 MiB on a
     // 512 x 512 x 400 CT) for the relaxation and the metrics to find in use.
     const auto start = std::chrono::steady_clock::now();
-    const auto net = std::make_shared<const SurfaceNet>(
+    auto net = std::make_shared<const SurfaceNet>(
         build_surface_net(grey, options.iso, options.inside, progress));
-    return relax_net(grey, net, start, options, reference, progress, NetObserver{});
+    return relax_net(grey, std::move(net), start, options, reference, progress, NetObserver{});
 }
 
 namespace {
 
-Mesh mesh_to_index(const Mesh& world, const Volume& volume) {
-    Mesh index = world;
-    for (glm::vec3& p : index.positions) p = world_to_index(volume, p);
+std::vector<glm::vec3> points_to_index(std::span<const glm::vec3> world, const Volume& volume) {
+    std::vector<glm::vec3> index(world.size());
+    std::transform(world.begin(), world.end(), index.begin(),
+                   [&](glm::vec3 p) { return world_to_index(volume, p); });
     return index;
+}
+
+Mesh mesh_to_index(const Mesh& world, const Volume& volume) {
+    return {points_to_index(world.positions, volume), world.indices};
+}
+
+// accuracy() of the index-space copy of a world mesh, weighted by its world areas.
+Accuracy distance_in_voxels(const Mesh& index_mesh, std::span<const glm::vec3> world_positions,
+                            const MeshDistance& to_reference) {
+    return accuracy(
+        index_mesh, [&](glm::vec3 p) { return to_reference(p); }, world_positions);
 }
 
 } // namespace
@@ -150,18 +177,28 @@ std::optional<Accuracy> distance_to_mesh(const Mesh& mesh, const Mesh& reference
                                          const Volume& volume) {
     if (reference.triangle_count() == 0) return std::nullopt;
     const MeshDistance to_reference(mesh_to_index(reference, volume));
-    return accuracy(
-        mesh_to_index(mesh, volume), [&](glm::vec3 p) { return to_reference(p); }, &mesh);
+    return distance_in_voxels(mesh_to_index(mesh, volume), mesh.positions, to_reference);
 }
 
 void measure_against_marching_cubes(std::span<MethodResult> results, const Volume& volume) {
     const auto mc = std::find_if(results.begin(), results.end(), [](const MethodResult& r) {
         return r.method == Method::MarchingCubes;
     });
-    if (mc == results.end()) return;
-    for (MethodResult& r : results)
-        if (r.method != Method::MarchingCubes)
-            r.metrics.to_marching_cubes = distance_to_mesh(r.mesh, mc->mesh, volume);
+    if (mc == results.end() || mc->mesh.triangle_count() == 0) return;
+    const MeshDistance to_mc(mesh_to_index(mc->mesh, volume)); // one grid for every net
+    for (MethodResult& r : results) {
+        if (r.method == Method::MarchingCubes) continue;
+        // The index-space copy borrows the net's triangles and gives them back: a clinical
+        // mesh's triangles are not held twice at the comparison's peak of memory.
+        Mesh index{points_to_index(r.mesh.positions, volume), std::move(r.mesh.indices)};
+        try {
+            r.metrics.to_marching_cubes = distance_in_voxels(index, r.mesh.positions, to_mc);
+        } catch (...) {
+            r.mesh.indices = std::move(index.indices);
+            throw;
+        }
+        r.mesh.indices = std::move(index.indices);
+    }
 }
 
 } // namespace snert

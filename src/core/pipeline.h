@@ -96,6 +96,12 @@ DistanceFunction first_order_distance(std::shared_ptr<const Volume> volume, floa
 MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
                       const DistanceFunction& reference, const MeasureOptions& what = {});
 
+// measure(), for a mesh not needed in index space afterwards: `mesh` comes back in world units
+// (as mesh_to_world makes it), so that one copy of it is held instead of two.
+MethodMetrics measure_into_world(Mesh& mesh, const Volume& volume,
+                                 const DistanceFunction& reference,
+                                 const MeasureOptions& what = {});
+
 // Marching Cubes, measured.
 MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
                                 const DistanceFunction& reference, const Progress& progress = {});

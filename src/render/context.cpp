@@ -2,6 +2,10 @@
 // Mesa 22.3 on Debian 12: OSMesa's core profile needs OSMesaCreateContextAttribs, and EGL must
 // be asked for the surfaceless Mesa platform explicitly, because eglGetDisplay with no
 // DISPLAY tries X11 and fails.
+//
+// OSMesa is opened with dlopen when the first OSMesa context is made, not linked: it pulls in
+// LLVM (llvmpipe), whose load alone costs every command about 50 MB of resident memory and a
+// tenth of a second, although only `render`, `gui` and the tests draw anything.
 #include "context.h"
 
 #include "gl.h" // glad before any other GL header
@@ -10,6 +14,8 @@
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+
+#include <dlfcn.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -24,9 +30,49 @@ std::string version_text(GlVersion v) {
     return std::to_string(v.major) + "." + std::to_string(v.minor) + " core";
 }
 
+// The four OSMesa entry points snert calls, resolved once from the library's run-time name.
+struct OsMesaLibrary {
+    decltype(&OSMesaCreateContextAttribs) create_context_attribs = nullptr;
+    decltype(&OSMesaDestroyContext) destroy_context = nullptr;
+    decltype(&OSMesaMakeCurrent) make_current = nullptr;
+    decltype(&OSMesaGetProcAddress) get_proc_address = nullptr;
+};
+
+template <class Function> void resolve(void* library, const char* name, Function& out) {
+    out = reinterpret_cast<Function>(dlsym(library, name));
+    if (out == nullptr)
+        throw std::runtime_error(std::string("cannot use OSMesa: the library lacks ") + name);
+}
+
+OsMesaLibrary open_osmesa() {
+    void* library = nullptr;
+    std::string reasons;
+    // The versioned name is the one the run-time package installs; the plain one is the -dev
+    // package's link.
+    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so"}) {
+        library = dlopen(name, RTLD_NOW | RTLD_LOCAL);
+        if (library != nullptr) break;
+        const char* why = dlerror();
+        reasons += (reasons.empty() ? "" : "; ") + std::string(why ? why : name);
+    }
+    if (library == nullptr) throw std::runtime_error("cannot open OSMesa (" + reasons + ")");
+    // Never closed: the GL functions loaded through it stay in use until the process ends.
+    OsMesaLibrary functions;
+    resolve(library, "OSMesaCreateContextAttribs", functions.create_context_attribs);
+    resolve(library, "OSMesaDestroyContext", functions.destroy_context);
+    resolve(library, "OSMesaMakeCurrent", functions.make_current);
+    resolve(library, "OSMesaGetProcAddress", functions.get_proc_address);
+    return functions;
+}
+
+const OsMesaLibrary& osmesa() {
+    static const OsMesaLibrary library = open_osmesa(); // thread-safe, retried after a throw
+    return library;
+}
+
 class OsMesaContext final : public GlContext {
   public:
-    explicit OsMesaContext(GlVersion version) {
+    explicit OsMesaContext(GlVersion version) : library_(osmesa()) {
         const int attributes[] = {OSMESA_FORMAT,
                                   OSMESA_RGBA,
                                   OSMESA_DEPTH_BITS,
@@ -40,30 +86,31 @@ class OsMesaContext final : public GlContext {
                                   OSMESA_CONTEXT_MINOR_VERSION,
                                   version.minor,
                                   0};
-        context_ = OSMesaCreateContextAttribs(attributes, nullptr);
+        context_ = library_.create_context_attribs(attributes, nullptr);
         if (context_ == nullptr)
             throw std::runtime_error("cannot create an OSMesa OpenGL " + version_text(version) +
                                      " context (OSMesaCreateContextAttribs failed)");
         try {
             make_current();
         } catch (...) {
-            OSMesaDestroyContext(context_);
+            library_.destroy_context(context_);
             throw;
         }
     }
-    ~OsMesaContext() override { OSMesaDestroyContext(context_); }
+    ~OsMesaContext() override { library_.destroy_context(context_); }
 
     void make_current() override {
         // The default framebuffer is never drawn to (everything goes to a RenderTarget), so a
         // tiny colour buffer suffices; OSMesa only needs one to make the context current.
-        if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, kSide, kSide))
+        if (!library_.make_current(context_, buffer_.data(), GL_UNSIGNED_BYTE, kSide, kSide))
             throw std::runtime_error("cannot make the OSMesa context current");
-        load_gl(reinterpret_cast<GlProcLoader>(&OSMesaGetProcAddress));
+        load_gl(reinterpret_cast<GlProcLoader>(library_.get_proc_address));
     }
     std::string_view backend() const override { return "osmesa"; }
 
   private:
     static constexpr int kSide = 4;
+    const OsMesaLibrary& library_;
     OSMesaContext context_ = nullptr;
     std::vector<std::uint8_t> buffer_ = std::vector<std::uint8_t>(kSide * kSide * 4);
 };

@@ -425,12 +425,11 @@ TEST(Accuracy, SurfaceIsAreaWeighted) {
     // Areas from another copy (here the first triangle stretched 4 times): weights 2 and 2.
     Mesh stretched = m;
     for (int v = 0; v < 3; ++v) stretched.positions[std::size_t(v)].x *= 4;
-    EXPECT_NEAR(accuracy(m, z, &stretched).surface_mean, 2.0, 1e-12);
-    Mesh other = m;
-    other.indices.pop_back();
-    other.indices.pop_back();
-    other.indices.pop_back();
-    EXPECT_THROW(accuracy(m, z, &other), std::invalid_argument);
+    EXPECT_NEAR(accuracy(m, z, stretched.positions).surface_mean, 2.0, 1e-12);
+    // One point per vertex, or no answer.
+    std::vector<glm::vec3> too_few = m.positions;
+    too_few.pop_back();
+    EXPECT_THROW(accuracy(m, z, too_few), std::invalid_argument);
 }
 
 TEST(Accuracy, SurfaceSeesWhatVerticesMiss) {
@@ -448,14 +447,14 @@ TEST(SurfaceDistance, SplitSetsTheSamples) {
     const DistanceFunction sphere = [](glm::vec3 p) { return glm::length(p) - 1.0f; };
     const Mesh m = octahedron();
     const Accuracy a = accuracy(m, sphere);
-    const SurfaceDistance fine = surface_distance(m, sphere, nullptr, kSurfaceSampleSplit);
+    const SurfaceDistance fine = surface_distance(m, sphere, {}, kSurfaceSampleSplit);
     EXPECT_EQ(fine.mean, a.surface_mean);
     EXPECT_EQ(fine.max, a.surface_max);
-    const SurfaceDistance centroids = surface_distance(m, sphere, nullptr, 1);
+    const SurfaceDistance centroids = surface_distance(m, sphere, {}, 1);
     EXPECT_NEAR(centroids.mean, a.faces_mean, 1e-12); // equal areas: the plain centroid mean
     EXPECT_NEAR(centroids.max, a.faces_max, 1e-12);
     EXPECT_GT(centroids.max, fine.max);
-    EXPECT_THROW(surface_distance(m, sphere, nullptr, 0), std::invalid_argument);
+    EXPECT_THROW(surface_distance(m, sphere, {}, 0), std::invalid_argument);
 }
 
 // --- Mesh distance --------------------------------------------------------------------------
