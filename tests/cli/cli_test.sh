@@ -205,6 +205,10 @@ expect_exit 0 "" -- "$SNERT" table1 --size 16 --iterations 5 --json "$tmp/t.json
 python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert set(j)=={'plane','sphere','two_spheres','provenance'}; assert set(j['sphere'])=={'mc','sna','snert'}; assert [p['phantom'] for p in j['provenance']['input']['phantoms']]==['plane','sphere','two-spheres']; assert j['provenance']['relaxation']['iterations']==5" "$tmp/t.json" || fail "table1 JSON"
 
 
+# OSMesa, and the LLVM it pulls in (about 50 MB resident), is opened only when something is
+# drawn (render/context.cpp): the binary does not link it.
+if ldd "$SNERT" | grep -q "libOSMesa"; then fail "snert links OSMesa instead of opening it"; fi
+
 # bench: the stages timed, with a thread limit; the JSON `make bench` reads.
 expect_exit 0 "" -- "$SNERT" bench --size 32 --threads 1 --repeat 1 --json "$tmp/b.json"
 grep -q "SNERT iteration" "$tmp/out" || fail "bench table lacks the iteration row"

@@ -50,6 +50,68 @@ TEST(Pipeline, ACopyOfMarchingCubesIsAtDistanceZero) {
     EXPECT_LT(results[1].metrics.to_marching_cubes->surface_max, 1e-4);
 }
 
+TEST(Pipeline, MeasuringIntoTheWorldKeepsEveryFigureUnderAMirror) {
+    // The same grid twice: plainly, and mirrored, sheared and anisotropic (as a NIfTI's RAS to
+    // LPS can be). Accuracy weights by world areas, which a mirror keeps; the world mesh must be
+    // mesh_to_world's, wound outward. (An earlier measure() refused the mirrored one: its area
+    // weights came from a world copy whose flipped triangles were no longer the index mesh's.)
+    const Phantom sphere = make_phantom("sphere", 24);
+    Volume mirrored = sphere.volume;
+    mirrored.spacing = {0.5f, 1.0f, 2.0f};
+    mirrored.direction = glm::mat3(glm::vec3(-1, 0, 0), glm::vec3(0.2f, 1, 0), glm::vec3(0, 0, 1));
+    mirrored.origin = {100.0f, -20.0f, 3.0f};
+    const Mesh index_mesh = marching_cubes(sphere.volume, {sphere.iso, InsideIs::Above});
+    MeasureOptions what;
+    what.reference_volume = sphere.reference_volume;
+
+    Mesh plain = index_mesh;
+    const MethodMetrics p =
+        measure_into_world(plain, sphere.volume, sphere.reference_distance, what);
+    Mesh world = index_mesh;
+    const MethodMetrics m = measure_into_world(world, mirrored, sphere.reference_distance, what);
+
+    const Mesh expected = mesh_to_world(index_mesh, mirrored);
+    EXPECT_EQ(world.positions, expected.positions);
+    EXPECT_EQ(world.indices, expected.indices);
+    EXPECT_GT(m.volume, 0.0) << "wound outward in the world";
+    EXPECT_NEAR(m.volume, enclosed_volume(expected), 1e-9 * m.volume);
+    EXPECT_NEAR(m.area, surface_area(expected), 1e-9 * m.area);
+    ASSERT_TRUE(p.accuracy && m.accuracy);
+    // In index space the two are one mesh; only the surface weights see the world's areas.
+    EXPECT_EQ(m.accuracy->vertices_mean, p.accuracy->vertices_mean);
+    EXPECT_EQ(m.accuracy->faces_max, p.accuracy->faces_max);
+    EXPECT_EQ(m.accuracy->surface_max, p.accuracy->surface_max);
+    EXPECT_NE(m.accuracy->surface_mean, p.accuracy->surface_mean); // anisotropic areas
+    EXPECT_EQ(m.volume_error, p.volume_error);
+    EXPECT_EQ(m.topology.euler, p.topology.euler);
+    EXPECT_TRUE(m.topology.watertight && m.topology.oriented);
+    EXPECT_EQ(m.self_intersections, 0u);
+    EXPECT_TRUE(m.fe_ready);
+    // measure() of the index mesh is the same measurement.
+    const MethodMetrics again = measure(index_mesh, mirrored, sphere.reference_distance, what);
+    EXPECT_EQ(again.accuracy->surface_mean, m.accuracy->surface_mean);
+    EXPECT_EQ(again.area, m.area);
+}
+
+TEST(Pipeline, NetsKeepTheirMeshesWhenMeasuredAgainstMarchingCubes) {
+    // The distance to MC borrows each net's triangles for its index-space copy: they come back.
+    const Phantom sphere = make_phantom("sphere", 32);
+    std::vector<MethodResult> results = sphere_comparison(sphere);
+    std::vector<Mesh> before;
+    for (const MethodResult& r : results) before.push_back(r.mesh);
+    measure_against_marching_cubes(results, sphere.volume);
+    for (std::size_t i = 0; i < results.size(); ++i) {
+        EXPECT_EQ(results[i].mesh.positions, before[i].positions);
+        EXPECT_EQ(results[i].mesh.indices, before[i].indices);
+    }
+    // And each net's figure is distance_to_mesh()'s.
+    const std::optional<Accuracy> direct =
+        distance_to_mesh(results[2].mesh, results[0].mesh, sphere.volume);
+    ASSERT_TRUE(direct && results[2].metrics.to_marching_cubes);
+    EXPECT_EQ(direct->surface_mean, results[2].metrics.to_marching_cubes->surface_mean);
+    EXPECT_EQ(direct->vertices_max, results[2].metrics.to_marching_cubes->vertices_max);
+}
+
 TEST(Pipeline, NothingToMeasureWithoutMarchingCubes) {
     const Phantom sphere = make_phantom("sphere", 32);
     std::vector<MethodResult> results = sphere_comparison(sphere);
