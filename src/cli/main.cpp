@@ -35,11 +35,6 @@ std::string one_line(std::string text) {
 } // namespace
 
 int main(int argc, char** argv) {
-    // Buffers of 256 KiB or more get pages of their own, which go back to the system when freed.
-    // glibc's default raises that threshold after each large free (up to 32 MiB), so the large
-    // buffers of later stages come from the heap and stay resident after use: on the 512 x 512 x
-    // 400 CT, `compare` peaked 60 MiB higher that way (bench/README.md).
-    mallopt(M_MMAP_THRESHOLD, 256 * 1024);
     CLI::App app("snert: Marching Cubes and SNERT side by side", "snert");
     app.set_version_flag("--version", "snert " SNERT_VERSION, "print the version and exit");
     app.require_subcommand(0, 1);
@@ -87,6 +82,13 @@ int main(int argc, char** argv) {
             return 2;
 #endif
         }
+        // A batch command's buffers of 256 KiB or more get pages of their own, which go back to
+        // the system when freed. glibc's default raises that threshold after each large free (up
+        // to 32 MiB), so the large buffers of later stages come from the heap and stay resident
+        // after use: on the 512 x 512 x 400 CT, `compare` peaked 60 MiB higher that way
+        // (bench/README.md). The app keeps the default: its UI thread makes frame-sized buffers
+        // again and again, each of which would then be mapped afresh (more slow frames).
+        if (command != "gui") mallopt(M_MMAP_THRESHOLD, 256 * 1024);
         return runners.at(command)();
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
