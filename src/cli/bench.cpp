@@ -235,11 +235,9 @@ Runner add_bench(CLI::App& app) {
         net.reset();
         mc = Mesh{};
         const Timing compare = median_time(1, [&] {
-            std::vector<MethodResult> results;
-            for (const Method method : compared_methods(RelaxMode::Snert))
-                results.push_back(run_source_method(method, source, pipeline, m,
-                                                    progress.stage(std::string(label_of(method)))));
-            measure_against_marching_cubes(results, volume);
+            run_compared_methods(
+                compared_methods(RelaxMode::Snert), source, pipeline, m,
+                [&](Method method) { return progress.stage(std::string(label_of(method))); });
         });
         rows.push_back({"compare --mode snert", compare, per_second(compare)});
         progress.stage("").update(1.0f);

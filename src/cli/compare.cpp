@@ -44,14 +44,10 @@ Runner add_compare(CLI::App& app) {
         source = close_border_if_chosen(std::move(source), choice, iso, inside);
         const PipelineOptions pipeline = pipeline_options(args->pipeline, iso, inside);
         const Measured m = measured(source, iso);
-        std::vector<MethodResult> results;
+        std::vector<MethodResult> results = run_compared_methods(
+            compared_methods(args->pipeline.mode), source, pipeline, m,
+            [&](Method method) { return progress.stage(std::string(label_of(method))); });
         nlohmann::json json;
-        for (const Method method : compared_methods(args->pipeline.mode)) {
-            results.push_back(run_source_method(method, source, pipeline, m,
-                                                progress.stage(std::string(label_of(method)))));
-            require_surface(results.back(), m);
-        }
-        measure_against_marching_cubes(results, *source.volume);
         // The curve starts from the full meshes, before any equal-count reduction.
         std::vector<std::vector<CompactnessPoint>> curves;
         std::vector<Method> methods;

@@ -301,15 +301,13 @@ Runner add_render(CLI::App& app) {
         const Method net = method_of(pipeline.relax.mode);
         const Measured m = measured(source, iso);
 
-        std::vector<MethodResult> results;
-        if (args->layout != RenderLayout::Net)
-            results.push_back(run_source_method(Method::MarchingCubes, source, pipeline, m,
-                                                progress.stage("Marching Cubes")));
-        if (args->layout != RenderLayout::Mc)
-            results.push_back(run_source_method(net, source, pipeline, m,
-                                                progress.stage(std::string(label_of(net)))));
-        for (const MethodResult& r : results) require_surface(r, m);
-        measure_against_marching_cubes(results, *source.volume);
+        std::vector<Method> shown;
+        if (args->layout != RenderLayout::Net) shown.push_back(Method::MarchingCubes);
+        if (args->layout != RenderLayout::Mc) shown.push_back(net);
+        std::vector<MethodResult> results =
+            run_compared_methods(shown, source, pipeline, m, [&](Method method) {
+                return progress.stage(std::string(label_of(method)));
+            });
         std::optional<EqualCountRun> equal;
         if (const auto request = equal_count_request(args->equal_count)) {
             equal = reduce_sources_to_equal_count(results, *request, source, pipeline, m);

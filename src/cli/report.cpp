@@ -45,6 +45,23 @@ void require_surface(const MethodResult& result, const Measured& m) {
                      " is empty (the volume is all inside or all outside)");
 }
 
+std::vector<MethodResult> run_compared_methods(const std::vector<Method>& methods,
+                                               const Source& source, const PipelineOptions& options,
+                                               const Measured& m,
+                                               const std::function<Progress(Method)>& stage) {
+    std::vector<MethodResult> results(methods.size());
+    auto run = [&](std::size_t i) {
+        results[i] = run_source_method(methods[i], source, options, m, stage(methods[i]));
+        require_surface(results[i], m);
+    };
+    for (std::size_t i = 0; i < methods.size(); ++i)
+        if (methods[i] != Method::MarchingCubes) run(i);
+    for (std::size_t i = 0; i < methods.size(); ++i)
+        if (methods[i] == Method::MarchingCubes) run(i);
+    measure_against_marching_cubes(results, *source.volume);
+    return results;
+}
+
 namespace {
 
 nlohmann::json number_or_null(std::optional<double> v) {

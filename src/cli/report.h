@@ -3,6 +3,7 @@
 // (the provenance: version, input, iso, every relaxation parameter).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -34,6 +35,15 @@ MethodResult run_source_method(Method method, const Source& source, const Pipeli
 // Throws InputError naming the input when the method produced no triangle: the volume is all
 // inside or all outside at this iso, which is bad input, not a result to report.
 void require_surface(const MethodResult& result, const Measured& measured);
+
+// The compared methods' results, in compared_methods' order, each net measured against Marching
+// Cubes; `stage` gives each method's progress. The nets run before Marching Cubes: a net's build
+// and relaxation are the comparison's peak of memory, and so they do not also hold MC's mesh
+// (15 MB on a clinical CT at the bone iso). Throws as require_surface.
+std::vector<MethodResult> run_compared_methods(const std::vector<Method>& methods,
+                                               const Source& source, const PipelineOptions& options,
+                                               const Measured& measured,
+                                               const std::function<Progress(Method)>& stage);
 
 // What the accuracies are measured against, in words.
 std::string accuracy_against(const Measured& measured);

@@ -42,14 +42,12 @@ Runner add_table1(CLI::App& app) {
             const PipelineOptions pipeline =
                 pipeline_options(args->pipeline, iso, source.suggested_inside);
             const Measured m = measured(source, iso);
-            std::vector<MethodResult> results;
             std::string key = name;
             if (key == "two-spheres") key = "two_spheres";
-            for (const Method method : compared_methods(std::nullopt))
-                results.push_back(run_source_method(
-                    method, source, pipeline, m,
-                    progress.stage(std::string(name) + " " + std::string(label_of(method)))));
-            measure_against_marching_cubes(results, *source.volume);
+            const std::vector<MethodResult> results = run_compared_methods(
+                compared_methods(std::nullopt), source, pipeline, m, [&](Method method) {
+                    return progress.stage(std::string(name) + " " + std::string(label_of(method)));
+                });
             for (const MethodResult& r : results)
                 json[key][std::string(name_of(r.method))] = method_json(r, m);
             nlohmann::json entry = input_json(source);

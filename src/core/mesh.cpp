@@ -12,6 +12,10 @@ IndexToWorld index_to_world_map(const Volume& volume) {
     return {index_to_world_linear(volume), volume.origin};
 }
 
+WorldToIndex world_to_index_map(const Volume& volume) {
+    return {glm::inverse(index_to_world_linear(volume)), volume.origin};
+}
+
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {
     Mesh out = mesh;
     place_in_world(out, volume);

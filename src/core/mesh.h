@@ -41,6 +41,14 @@ struct IndexToWorld {
 };
 IndexToWorld index_to_world_map(const Volume& volume);
 
+// Its inverse, world points to index space, as world_to_index() maps each point.
+struct WorldToIndex {
+    glm::mat3 inverse_linear{1.0f};
+    glm::vec3 origin{0.0f};
+    glm::vec3 operator()(glm::vec3 p) const { return inverse_linear * (p - origin); }
+};
+WorldToIndex world_to_index_map(const Volume& volume);
+
 struct Bounds {
     glm::vec3 min{0.0f};
     glm::vec3 max{0.0f};

@@ -23,6 +23,7 @@
 #include <tuple>
 #include <utility>
 
+#include "cell_lists.h"
 #include "parallel.h"
 
 namespace snert {
@@ -669,34 +670,42 @@ struct MeshDistance::Impl {
         float radius() const { return std::abs(signed_radius); }
         bool flat() const { return std::signbit(signed_radius); }
     };
-    // The reference itself (moved in, not copied) and each triangle's bounding sphere: 16 bytes
-    // a triangle beside the mesh, where a copy of each triangle's corners, normal and sphere took
-    // 64 (on a clinical Marching Cubes mesh of 3.5 M triangles, 170 MB less). The normal is
-    // worked out only for the few triangles that pass their sphere's test.
-    Mesh mesh;
+    // The reference (moved in, or borrowed with the map to its measuring space) and each
+    // triangle's bounding sphere: 16 bytes a triangle beside the mesh, where a copy of each
+    // triangle's corners, normal and sphere took 64 (on a clinical Marching Cubes mesh of 3.5 M
+    // triangles, 170 MB less). The normal is worked out only for the few triangles that pass
+    // their sphere's test.
+    Mesh owned;
+    std::span<const glm::vec3> positions;
+    std::span<const std::uint32_t> indices;
+    std::optional<WorldToIndex> to_space;
     std::vector<Sphere> spheres;
     glm::dvec3 origin{0.0};
     double cell = 1.0, inverse_cell = 1.0;
     glm::ivec3 dims{1};
-    double coordinate_size = 0; // the largest |coordinate| of the triangles' bounding box
-    std::vector<std::uint32_t> cell_start;     // CSR over cells, size cells + 1
-    std::vector<std::uint32_t> cell_triangles; // triangle ids
-    std::vector<std::uint16_t> empty_shells;   // chessboard distance (cells) to an occupied cell
+    double coordinate_size = 0;       // the largest |coordinate| of the triangles' bounding box
+    detail::CellLists cell_triangles; // the triangles of each cell
+    // Chessboard distance (cells) to an occupied cell, at most 255: a lower bound either way.
+    std::vector<std::uint8_t> empty_shells;
 
     static constexpr std::size_t kMaxCells = std::size_t(1) << 22;
 
     explicit Impl(Mesh&& reference);
+    Impl(const Mesh& reference, const WorldToIndex& map);
     float distance(glm::vec3 point) const;
 
   private:
     struct Corners {
         glm::dvec3 a, b, c;
     };
-    Corners corners(std::size_t t) const {
-        const std::uint32_t* i = &mesh.indices[3 * t];
-        return {glm::dvec3(mesh.positions[i[0]]), glm::dvec3(mesh.positions[i[1]]),
-                glm::dvec3(mesh.positions[i[2]])};
+    glm::dvec3 point(std::uint32_t i) const {
+        return glm::dvec3(to_space ? (*to_space)(positions[i]) : positions[i]);
     }
+    Corners corners(std::size_t t) const {
+        const std::uint32_t* i = &indices[3 * t];
+        return {point(i[0]), point(i[1]), point(i[2])};
+    }
+    std::size_t triangle_count() const { return indices.size() / 3; }
     std::size_t cell_index(int x, int y, int z) const {
         return (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x) +
                std::size_t(x);
@@ -722,6 +731,7 @@ struct MeshDistance::Impl {
     static Sphere bounding_sphere(const Corners& t);
     static bool beyond_plane(glm::dvec3 p, const Corners& t, const Plane& plane, double reach,
                              double bound);
+    void build();
     void choose_grid();
     void fill_cells();
     void compute_empty_shells();
@@ -760,13 +770,24 @@ bool MeshDistance::Impl::beyond_plane(glm::dvec3 p, const Corners& t, const Plan
     return h * h >= needed * needed * plane.n2;
 }
 
-MeshDistance::Impl::Impl(Mesh&& reference) : mesh(std::move(reference)) {
-    check_mesh(mesh);
-    if (mesh.triangle_count() == 0)
+MeshDistance::Impl::Impl(Mesh&& reference)
+    : owned(std::move(reference)), positions(owned.positions), indices(owned.indices) {
+    check_mesh(owned);
+    build();
+}
+
+MeshDistance::Impl::Impl(const Mesh& reference, const WorldToIndex& map)
+    : positions(reference.positions), indices(reference.indices), to_space(map) {
+    check_mesh(reference);
+    build();
+}
+
+void MeshDistance::Impl::build() {
+    if (triangle_count() == 0)
         throw std::invalid_argument("mesh distance: the reference mesh has no triangles");
-    if (mesh.triangle_count() >= kNone)
+    if (triangle_count() >= kNone)
         throw std::invalid_argument("mesh distance: too many reference triangles");
-    spheres.resize(mesh.triangle_count());
+    spheres.resize(triangle_count());
     for_each_chunk(spheres.size(), kTriangleChunk,
                    [&](std::size_t, std::size_t first, std::size_t last) {
                        for (std::size_t t = first; t < last; ++t)
@@ -782,7 +803,7 @@ MeshDistance::Impl::Impl(Mesh&& reference) : mesh(std::move(reference)) {
 void MeshDistance::Impl::choose_grid() {
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
     double edge_sum = 0;
-    const std::size_t triangles = mesh.triangle_count();
+    const std::size_t triangles = triangle_count();
     for (std::size_t i = 0; i < triangles; ++i) {
         const Corners t = corners(i);
         for (const glm::dvec3 p : {t.a, t.b, t.c}) {
@@ -813,42 +834,34 @@ void MeshDistance::Impl::choose_grid() {
     coordinate_size = std::max({size.x, size.y, size.z});
 }
 
-// Lists each triangle in every cell its bounding box overlaps (count, prefix sum, fill).
+// Lists each triangle in every cell its bounding box overlaps.
 void MeshDistance::Impl::fill_cells() {
     const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
-    cell_start.assign(cells + 2, 0);
-    auto for_each_cell_of = [&](std::size_t triangle, auto&& visit) {
-        const auto [a, b, c] = corners(triangle);
-        const glm::ivec3 lo = cell_of(glm::min(a, glm::min(b, c)));
-        const glm::ivec3 hi = cell_of(glm::max(a, glm::max(b, c)));
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y)
-                for (int x = lo.x; x <= hi.x; ++x) visit(cell_index(x, y, z));
-    };
-    std::size_t entries = 0;
-    const std::size_t triangles = mesh.triangle_count();
-    for (std::size_t t = 0; t < triangles; ++t)
-        for_each_cell_of(t, [&](std::size_t c) {
-            ++cell_start[c + 2];
-            ++entries;
-        });
-    if (entries >= kNone) throw std::invalid_argument("mesh distance: reference mesh too large");
-    for (std::size_t c = 2; c < cell_start.size(); ++c) cell_start[c] += cell_start[c - 1];
-    cell_triangles.resize(entries);
-    for (std::size_t t = 0; t < triangles; ++t)
-        for_each_cell_of(
-            t, [&](std::size_t c) { cell_triangles[cell_start[c + 1]++] = std::uint32_t(t); });
-    cell_start.pop_back();
+    const std::size_t triangles = triangle_count();
+    cell_triangles.build(
+        cells,
+        [&](auto&& visit) {
+            for (std::size_t t = 0; t < triangles; ++t) {
+                const auto [a, b, c] = corners(t);
+                const glm::ivec3 lo = cell_of(glm::min(a, glm::min(b, c)));
+                const glm::ivec3 hi = cell_of(glm::max(a, glm::max(b, c)));
+                for (int z = lo.z; z <= hi.z; ++z)
+                    for (int y = lo.y; y <= hi.y; ++y)
+                        for (int x = lo.x; x <= hi.x; ++x)
+                            visit(std::uint32_t(t), cell_index(x, y, z));
+            }
+        },
+        "mesh distance");
 }
 
 // Two raster passes, each taking the minimum over the 13 already visited neighbours plus one:
 // with unit weights this is the exact chessboard distance to the nearest occupied cell.
 void MeshDistance::Impl::compute_empty_shells() {
-    const std::size_t cells = cell_start.size() - 1;
-    constexpr std::uint16_t kFar = std::numeric_limits<std::uint16_t>::max();
+    const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
+    constexpr std::uint8_t kFar = std::numeric_limits<std::uint8_t>::max();
     empty_shells.assign(cells, kFar);
     for (std::size_t c = 0; c < cells; ++c)
-        if (cell_start[c + 1] > cell_start[c]) empty_shells[c] = 0;
+        if (cell_triangles.occupied(c)) empty_shells[c] = 0;
     // Neighbours earlier in the forward raster order: the previous slice (9), the previous row
     // of this slice (3) and the previous cell of this row (1). The backward pass mirrors them.
     std::array<glm::ivec3, 13> before;
@@ -872,7 +885,7 @@ void MeshDistance::Impl::compute_empty_shells() {
                     if (empty_shells[c] == 0) continue;
                     const bool inside = x > 0 && y > 0 && z > 0 && x < dims.x - 1 &&
                                         y < dims.y - 1 && z < dims.z - 1;
-                    std::uint16_t nearest = kFar;
+                    std::uint8_t nearest = kFar;
                     for (std::size_t k = 0; k < before.size(); ++k) {
                         if (!inside) {
                             const glm::ivec3 n = glm::ivec3(x, y, z) + step * before[k];
@@ -884,7 +897,7 @@ void MeshDistance::Impl::compute_empty_shells() {
                             nearest, empty_shells[std::size_t(std::ptrdiff_t(c) + offset[k])]);
                     }
                     if (nearest < kFar - 1)
-                        empty_shells[c] = std::min(empty_shells[c], std::uint16_t(nearest + 1));
+                        empty_shells[c] = std::min(empty_shells[c], std::uint8_t(nearest + 1));
                 }
     };
     pass(+1);
@@ -1019,9 +1032,7 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         });
         for (const Candidate& candidate : candidates) {
             if (beyond(candidate.squared_distance)) break;
-            for (std::uint32_t k = cell_start[candidate.cell]; k < cell_start[candidate.cell + 1];
-                 ++k) {
-                const std::uint32_t id = cell_triangles[k];
+            for (const std::uint32_t id : cell_triangles.items(candidate.cell)) {
                 const Sphere& sphere = spheres[id];
                 const glm::dvec3 to_centre = p - glm::dvec3(sphere.centre);
                 const double reach = prune_root + double(sphere.radius());
@@ -1051,6 +1062,9 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
 }
 
 MeshDistance::MeshDistance(Mesh reference) : impl_(std::make_shared<Impl>(std::move(reference))) {}
+
+MeshDistance::MeshDistance(const Mesh& reference, const WorldToIndex& to_space)
+    : impl_(std::make_shared<Impl>(reference, to_space)) {}
 
 float MeshDistance::operator()(glm::vec3 p) const {
     return impl_->distance(p);

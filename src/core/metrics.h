@@ -207,6 +207,10 @@ class MeshDistance {
     // Throws std::invalid_argument when `reference` has no triangles or a bad index. Keeps the
     // mesh (pass a temporary or std::move it to spare a copy).
     explicit MeshDistance(Mesh reference);
+    // The distance to `reference` as `to_space` maps its points (world to index space, say),
+    // measured in that space without a copy of the mesh: `reference` must outlive this object
+    // and its copies, unchanged. Throws as above.
+    MeshDistance(const Mesh& reference, const WorldToIndex& to_space);
     // Distance to the nearest point of any triangle; NaN for a non-finite point.
     float operator()(glm::vec3 p) const;
 

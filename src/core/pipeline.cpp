@@ -155,13 +155,8 @@ namespace {
 
 std::vector<glm::vec3> points_to_index(std::span<const glm::vec3> world, const Volume& volume) {
     std::vector<glm::vec3> index(world.size());
-    std::transform(world.begin(), world.end(), index.begin(),
-                   [&](glm::vec3 p) { return world_to_index(volume, p); });
+    std::transform(world.begin(), world.end(), index.begin(), world_to_index_map(volume));
     return index;
-}
-
-Mesh mesh_to_index(const Mesh& world, const Volume& volume) {
-    return {points_to_index(world.positions, volume), world.indices};
 }
 
 // accuracy() of the index-space copy of a world mesh, weighted by its world areas.
@@ -176,8 +171,9 @@ Accuracy distance_in_voxels(const Mesh& index_mesh, std::span<const glm::vec3> w
 std::optional<Accuracy> distance_to_mesh(const Mesh& mesh, const Mesh& reference,
                                          const Volume& volume) {
     if (reference.triangle_count() == 0) return std::nullopt;
-    const MeshDistance to_reference(mesh_to_index(reference, volume));
-    return distance_in_voxels(mesh_to_index(mesh, volume), mesh.positions, to_reference);
+    const MeshDistance to_reference(reference, world_to_index_map(volume));
+    const Mesh index{points_to_index(mesh.positions, volume), mesh.indices};
+    return distance_in_voxels(index, mesh.positions, to_reference);
 }
 
 void measure_against_marching_cubes(std::span<MethodResult> results, const Volume& volume) {
@@ -185,7 +181,8 @@ void measure_against_marching_cubes(std::span<MethodResult> results, const Volum
         return r.method == Method::MarchingCubes;
     });
     if (mc == results.end() || mc->mesh.triangle_count() == 0) return;
-    const MeshDistance to_mc(mesh_to_index(mc->mesh, volume)); // one grid for every net
+    // One grid for every net, over MC's world mesh as seen in index space (not a copy of it).
+    const MeshDistance to_mc(mc->mesh, world_to_index_map(volume));
     for (MethodResult& r : results) {
         if (r.method == Method::MarchingCubes) continue;
         // The index-space copy borrows the net's triangles and gives them back: a clinical

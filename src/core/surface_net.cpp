@@ -567,6 +567,9 @@ class NetBuilder {
             slabs, kSlabsPerChunk, [&](std::size_t chunk, std::size_t first, std::size_t end) {
                 fill_slabs(int(first), int(end), net, link_parts[chunk], polygon_parts[chunk]);
             });
+        // The classification is done with: its bit a voxel (13 MB on a 512 x 512 x 400 CT) is let
+        // go before the polygons, stars and links are gathered, the build's peak of memory.
+        bits_ = detail::BitVolume();
 
         concatenate(polygon_parts, net);
         mend_pinched_border_nodes(net, link_parts); // also builds the stars

@@ -27,6 +27,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cell_lists.h"
 #include "parallel.h"
 
 namespace snert {
@@ -342,13 +343,12 @@ struct Box {
 };
 
 // A uniform grid over the triangles' boxes, each triangle listed (in increasing order) in every
-// cell its box overlaps; compressed rows over the cells.
+// cell its box overlaps.
 struct BoxGrid {
     glm::dvec3 origin{0.0};
     double inverse_cell = 1.0;
     glm::ivec3 dims{1};
-    std::vector<std::uint32_t> start; // cells + 1
-    std::vector<std::uint32_t> items; // triangle ids
+    detail::CellLists triangles;
 
     glm::ivec3 cell_of(glm::vec3 p) const {
         const glm::dvec3 f = glm::floor((glm::dvec3(p) - origin) * inverse_cell);
@@ -399,24 +399,15 @@ void fill_grid(BoxGrid& grid, const std::vector<Box>& boxes,
                const std::vector<std::uint8_t>& valid) {
     const std::size_t cells =
         std::size_t(grid.dims.x) * std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
-    grid.start.assign(cells + 2, 0);
-    std::size_t entries = 0;
-    for (std::size_t t = 0; t < boxes.size(); ++t)
-        if (valid[t])
-            for_each_cell(grid, boxes[t], [&](glm::ivec3, std::size_t c) {
-                ++grid.start[c + 2];
-                ++entries;
-            });
-    if (entries >= std::numeric_limits<std::uint32_t>::max())
-        throw std::invalid_argument("self-intersections: mesh too large");
-    for (std::size_t c = 2; c < grid.start.size(); ++c) grid.start[c] += grid.start[c - 1];
-    grid.items.resize(entries);
-    for (std::size_t t = 0; t < boxes.size(); ++t)
-        if (valid[t])
-            for_each_cell(grid, boxes[t], [&](glm::ivec3, std::size_t c) {
-                grid.items[grid.start[c + 1]++] = std::uint32_t(t);
-            });
-    grid.start.pop_back();
+    grid.triangles.build(
+        cells,
+        [&](auto&& visit) {
+            for (std::size_t t = 0; t < boxes.size(); ++t)
+                if (valid[t])
+                    for_each_cell(grid, boxes[t],
+                                  [&](glm::ivec3, std::size_t c) { visit(std::uint32_t(t), c); });
+        },
+        "self-intersections");
 }
 
 bool boxes_overlap(const Box& a, const Box& b) {
@@ -485,8 +476,7 @@ SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::ui
             const glm::ivec3 first_t = grid.cell_of(boxes[t].lo);
             hits.clear();
             for_each_cell(grid, boxes[t], [&](glm::ivec3 cell, std::size_t c) {
-                for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
-                    const std::uint32_t u = grid.items[k];
+                for (const std::uint32_t u : grid.triangles.items(c)) {
                     if (u == t || (u < t && marked(u)) || !boxes_overlap(boxes[t], boxes[u]) ||
                         glm::max(first_t, grid.cell_of(boxes[u].lo)) != cell)
                         continue;
@@ -556,8 +546,7 @@ SelfIntersections few_marked_intersections(const Mesh& mesh,
             corners(u, p);
             const glm::ivec3 first_u = grid.cell_of(boxes[u].lo);
             for_each_cell(grid, boxes[u], [&](glm::ivec3 cell, std::size_t c) {
-                for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
-                    const std::uint32_t t = grid.items[k];
+                for (const std::uint32_t t : grid.triangles.items(c)) {
                     if (t == u || (subject[u] && t > u) || !boxes_overlap(boxes[t], boxes[u]) ||
                         glm::max(first_u, grid.cell_of(boxes[t].lo)) != cell)
                         continue;

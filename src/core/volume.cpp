@@ -11,6 +11,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "mesh.h"
+
 namespace snert {
 
 Volume make_volume(glm::ivec3 dims, float value) {
@@ -40,7 +42,7 @@ glm::vec3 index_to_world(const Volume& volume, glm::vec3 index_point) {
 }
 
 glm::vec3 world_to_index(const Volume& volume, glm::vec3 world_point) {
-    return glm::inverse(index_to_world_linear(volume)) * (world_point - volume.origin);
+    return world_to_index_map(volume)(world_point);
 }
 
 namespace {

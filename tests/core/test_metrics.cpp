@@ -614,5 +614,39 @@ TEST(MeshDistance, RejectsEmptyReference) {
     EXPECT_THROW(MeshDistance(Mesh{}), std::invalid_argument);
 }
 
+// Borrowed through a map (world to index space, as the distance to Marching Cubes measures it),
+// the mesh gives bit for bit what a mapped copy gives, and is left as it was.
+TEST(MeshDistance, BorrowedThroughAMapMatchesAMappedCopy) {
+    Mesh world = icosphere(3);
+    for (glm::vec3& p : world.positions) p = p * 40.0f + glm::vec3(-120.0f, 35.0f, 8.0f);
+    WorldToIndex map;
+    map.inverse_linear = glm::mat3(-1.4f, 0.1f, 0.0f, 0.0f, 1.7f, 0.2f, 0.0f, 0.0f, 4.6f);
+    map.origin = {-150.0f, 10.0f, -20.0f};
+    Mesh copy = world;
+    for (glm::vec3& p : copy.positions) p = map(p);
+    const Mesh before = world;
+    const MeshDistance borrowed(world, map), owned(copy);
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> x(-60.0f, 60.0f), y(0.0f, 200.0f), z(-10.0f, 400.0f);
+    for (int i = 0; i < 400; ++i) {
+        const glm::vec3 p(x(random), y(random), z(random));
+        EXPECT_EQ(borrowed(p), owned(p)) << p.x << ' ' << p.y << ' ' << p.z;
+    }
+    EXPECT_EQ(world.positions, before.positions);
+    EXPECT_EQ(world.indices, before.indices);
+}
+
+// Two small triangles 2000 edges apart: a query half-way lies more than 255 cells from either,
+// where the distance transform saturates. The answer is still exact.
+TEST(MeshDistance, FarBeyondTheShellCountItSkips) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2000, 0, 0}, {2001, 0, 0}, {2000, 1, 0}};
+    m.indices = {0, 1, 2, 3, 4, 5};
+    const MeshDistance d(m);
+    for (const glm::vec3 p :
+         {glm::vec3(1000, 0.2f, 3), glm::vec3(400, 0.5f, 0), glm::vec3(1700, 0.3f, 0)})
+        EXPECT_NEAR(d(p), brute_force_distance(m, p), 1e-6 * brute_force_distance(m, p));
+}
+
 } // namespace
 } // namespace snert
