@@ -7,7 +7,6 @@
 // cells an offset (a popcount finds a cell's place among them).
 #pragma once
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -17,6 +16,15 @@
 #include <vector>
 
 namespace snert::detail {
+
+// The set bits of x, inline. std::popcount calls into libgcc on the baseline x86-64 target (no
+// POPCNT instruction): a call for every cell a query looks up.
+inline std::size_t set_bits(std::uint64_t x) {
+    x -= (x >> 1) & 0x5555555555555555u;                              // 2-bit sums
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u); // 4-bit sums
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;                         // byte sums
+    return std::size_t((x * 0x0101010101010101u) >> 56);              // all bytes, in the top one
+}
 
 class CellLists {
   public:
@@ -36,7 +44,7 @@ class CellLists {
             if (occupied_cells >= std::numeric_limits<std::uint32_t>::max())
                 throw std::invalid_argument(std::string(what) + ": too many grid cells");
             before_[w] = std::uint32_t(occupied_cells);
-            occupied_cells += std::size_t(std::popcount(occupied_[w]));
+            occupied_cells += set_bits(occupied_[w]);
         }
         // Count, prefix sum, fill: start_[r + 1] runs as the fill position of occupied cell r.
         start_.assign(occupied_cells + 2, 0);
@@ -69,7 +77,7 @@ class CellLists {
     // The place of cell c among the occupied cells, in cell order.
     std::size_t rank(std::size_t c) const {
         const std::uint64_t below = occupied_[c >> 6] & ((std::uint64_t(1) << (c & 63)) - 1);
-        return before_[c >> 6] + std::size_t(std::popcount(below));
+        return before_[c >> 6] + set_bits(below);
     }
 
     std::vector<std::uint64_t> occupied_; // a bit per cell

@@ -51,9 +51,15 @@ float sliver_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     return triangle_shape(a, b, c).quality;
 }
 
-// Positions of the nodes in index space (for the split) and in world space (for the checks).
+// Positions of the nodes in index space (for the split) and in world space (for the checks):
+// stored (`world`), or mapped from index space when asked (`to_world`, for the step's old
+// positions: read only where a new polygon looks worse, so not worth 12 bytes a node).
 struct Points {
     std::span<const glm::vec3> index, world;
+    const IndexToWorld* to_world = nullptr;
+    glm::vec3 world_at(std::uint32_t node) const {
+        return to_world != nullptr ? (*to_world)(index[node]) : world[node];
+    }
 };
 
 float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, bool along_ac) {
@@ -61,7 +67,8 @@ float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, bool al
     const int count = split_polygon(net, id, along_ac, t);
     float q = 1.0f;
     for (int k = 0; k < count; ++k)
-        q = std::min(q, sliver_quality(p.world[t[k][0]], p.world[t[k][1]], p.world[t[k][2]]));
+        q = std::min(q,
+                     sliver_quality(p.world_at(t[k][0]), p.world_at(t[k][1]), p.world_at(t[k][2])));
     return q;
 }
 
@@ -189,11 +196,11 @@ int closed_fan(const SurfaceNet& net, std::uint32_t node, Fan (&order)[kMaxFans]
 // facets nearly overlap"), so a move that makes a fold, or a fold worse, is refused like one.
 constexpr double kFoldCos = 0.98480775301220802; // cos(10 degrees)
 
-// Cosine of the angle between the normals of the triangles `a` and `b` at the points `p`.
-double normal_cos(const Triangle& a, const Triangle& b, std::span<const glm::vec3> p) {
+// Cosine of the angle between the normals of the triangles `a` and `b` at the world points of `p`.
+double normal_cos(const Triangle& a, const Triangle& b, const Points& p) {
     const auto normal = [&](const Triangle& t) {
-        const glm::dvec3 o(p[t[0]]);
-        return glm::cross(glm::dvec3(p[t[1]]) - o, glm::dvec3(p[t[2]]) - o);
+        const glm::dvec3 o(p.world_at(t[0]));
+        return glm::cross(glm::dvec3(p.world_at(t[1])) - o, glm::dvec3(p.world_at(t[2])) - o);
     };
     const glm::dvec3 na = normal(a), nb = normal(b);
     const double size = std::sqrt(glm::dot(na, na) * glm::dot(nb, nb));
@@ -344,11 +351,9 @@ void check_cell(const SurfaceNet& net, std::span<const std::uint32_t> cell_nodes
                             const std::uint32_t id = polygons[polygon];
                             return id >= along_ac.size() || along_ac[id] == old_along_ac[id];
                         };
-                        const double now = normal_cos(ta.nodes, tb.nodes, new_p.world);
-                        const double before = same_split(i) && same_split(j)
-                                                  ? normal_cos(ta.nodes, tb.nodes, old_p.world)
-                                                  : 1.0;
-                        if (now < -kFoldCos && now < before) {
+                        const double now = normal_cos(ta.nodes, tb.nodes, new_p);
+                        if (now < -kFoldCos && (!same_split(i) || !same_split(j) ||
+                                                now < normal_cos(ta.nodes, tb.nodes, old_p))) {
                             // Every corner of both polygons: a fold a flipped diagonal shows
                             // may come from a corner that is in neither triangle.
                             for (int k = 0; k < ni; ++k) mark(refused, ci[std::size_t(k)]);
@@ -455,14 +460,11 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                             std::span<glm::vec3> new_positions) {
     const std::size_t nodes = net.node_count();
     if (net.star_offsets.size() != nodes + 1) return 0; // a net without polygons
-    std::vector<glm::vec3> old_world(nodes), new_world(nodes);
+    std::vector<glm::vec3> new_world(nodes);
     for_each_chunk(nodes, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            old_world[i] = to_world(old_positions[i]);
-            new_world[i] = to_world(new_positions[i]);
-        }
+        for (std::size_t i = b; i < e; ++i) new_world[i] = to_world(new_positions[i]);
     });
-    const Points old_p{old_positions, old_world}, new_p{new_positions, new_world};
+    const Points old_p{old_positions, {}, &to_world}, new_p{new_positions, new_world};
     // Cells: runs of nodes with the same cell, plus the border copies of their nodes (appended
     // at the end of the net). A link node needs no place: its polygons all hold a node of its
     // cell.
