@@ -24,6 +24,15 @@ namespace snert::detail {
 using Word = std::uint64_t;
 inline constexpr int kWordBits = 64;
 
+// The set bits of x, inline: on the baseline x86-64 target (no POPCNT instruction) std::popcount
+// is a call into libgcc, made for every word counted.
+inline std::size_t set_bits(Word x) {
+    x -= (x >> 1) & 0x5555555555555555u;                              // 2-bit sums
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u); // 4-bit sums
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;                         // byte sums
+    return std::size_t((x * 0x0101010101010101u) >> 56);              // all bytes, in the top one
+}
+
 // Bit x of the result is bit x + 1 of the row.
 inline Word bits_above(const Word* row, int w, int words) {
     return (row[w] >> 1) | (w + 1 < words ? row[w + 1] << (kWordBits - 1) : Word(0));

@@ -15,16 +15,9 @@
 #include <string>
 #include <vector>
 
-namespace snert::detail {
+#include "bit_planes.h"
 
-// The set bits of x, inline. std::popcount calls into libgcc on the baseline x86-64 target (no
-// POPCNT instruction): a call for every cell a query looks up.
-inline std::size_t set_bits(std::uint64_t x) {
-    x -= (x >> 1) & 0x5555555555555555u;                              // 2-bit sums
-    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u); // 4-bit sums
-    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;                         // byte sums
-    return std::size_t((x * 0x0101010101010101u) >> 56);              // all bytes, in the top one
-}
+namespace snert::detail {
 
 class CellLists {
   public:

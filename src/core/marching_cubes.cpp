@@ -19,7 +19,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -450,9 +449,9 @@ class Extractor {
         for (int y = 0; y < dims_.y; ++y)
             for (int w = 0; w < words_; ++w) {
                 const RowEdges e = row_edges(y, z, w);
-                if ((e.x | e.y | e.z) == 0) continue; // most words: no popcount call
-                c.xy += std::size_t(std::popcount(e.x) + std::popcount(e.y));
-                c.z += std::size_t(std::popcount(e.z));
+                if ((e.x | e.y | e.z) == 0) continue; // most words: nothing to count
+                c.xy += detail::set_bits(e.x) + detail::set_bits(e.y);
+                c.z += detail::set_bits(e.z);
             }
         return c;
     }
