@@ -125,7 +125,7 @@ AxisOffsets axis_offsets(int base, int n, std::ptrdiff_t stride) {
         o.lo[c] = lo * stride;
         o.hi[c] = hi * stride;
         o.span[c] = float(hi - lo);
-        o.inverse[c] = hi > lo ? 1.0f / o.span[c] : 0.0f;
+        o.inverse[c] = hi - lo == 2 ? 0.5f : hi > lo ? 1.0f : 0.0f; // 1 / span, exactly
     }
     return o;
 }

@@ -73,6 +73,19 @@ TEST(Orient, ExactOnNearlyCoplanarPoints) {
     EXPECT_GT(filter_hard, 0); // and cases where plain double arithmetic gets the sign wrong
 }
 
+TEST(Orient, ExactWhereDifferencesNeedTwoDoubles) {
+    // Corners 2^60 times apart: a - d does not fit one double (its lo part is not zero), and the
+    // filter's error bound dwarfs the determinant, so the exact sum decides with every part.
+    const float big = 0x1p30f, small = 0x1p-30f;
+    const V a(big, 0, 0), b(0, big, 0), c(-big, -big, 0); // counter-clockwise seen from +z
+    for (const float z : {0.0f, 0x1p-60f, -0x1p-60f, 0x1p-100f}) {
+        const V d(small, 3 * small, z);
+        const int expected = z > 0 ? -1 : z < 0 ? 1 : 0;
+        EXPECT_EQ(orient3d(a, b, c, d), expected) << z;
+        EXPECT_EQ(orient3d(d, c, b, a), expected) << z; // two swaps: the same sign
+    }
+}
+
 TEST(Orient, Orient2dNearCollinear) {
     // Shewchuk's example: points near the line y = x, an ulp apart, against (12, 12), (24, 24).
     const float ulp = std::nextafter(0.5f, 1.0f) - 0.5f;
@@ -273,6 +286,76 @@ TEST(SelfIntersections, GridMatchesAllPairs) {
     EXPECT_EQ(found.count, brute);
     EXPECT_EQ(found.pairs.size(), brute);
     EXPECT_TRUE(std::is_sorted(found.pairs.begin(), found.pairs.end()));
+}
+
+TEST(SelfIntersections, GridMatchesAllPairsOnALattice) {
+    // Corners on a 3 x 3 x 2 lattice, each lattice point twice (two vertices at one position):
+    // exactly coplanar pairs everywhere, corners shared by index and by position alone, which
+    // the count's shortcuts (a shared index lies on the plane) must tell apart.
+    Mesh mesh;
+    for (int copy = 0; copy < 2; ++copy)
+        for (int z = 0; z < 2; ++z)
+            for (int y = 0; y < 3; ++y)
+                for (int x = 0; x < 3; ++x) mesh.positions.emplace_back(x, y, z);
+    std::mt19937 rng(17);
+    std::uniform_int_distribution<std::uint32_t> vertex(0,
+                                                        std::uint32_t(mesh.positions.size()) - 1);
+    while (mesh.triangle_count() < 400) {
+        const std::uint32_t a = vertex(rng), b = vertex(rng), c = vertex(rng);
+        if (mesh.positions[a] == mesh.positions[b] || mesh.positions[b] == mesh.positions[c] ||
+            mesh.positions[c] == mesh.positions[a])
+            continue;
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+    }
+    std::size_t brute = 0;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        for (std::size_t u = t + 1; u < mesh.triangle_count(); ++u) {
+            glm::vec3 p[3], q[3];
+            for (int k = 0; k < 3; ++k) {
+                p[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
+                q[k] = mesh.positions[mesh.indices[3 * u + std::size_t(k)]];
+            }
+            brute += triangles_intersect(p, q) ? 1 : 0;
+        }
+    const std::size_t pairs = mesh.triangle_count() * (mesh.triangle_count() - 1) / 2;
+    EXPECT_GT(brute, pairs / 10);
+    EXPECT_LT(brute, pairs);
+    EXPECT_EQ(count_self_intersections(mesh), brute);
+    // The few-marked path (a grid of the marked triangles alone) against the same pairs.
+    std::vector<std::uint8_t> marked(mesh.triangle_count(), 0);
+    for (std::size_t t = 0; t < marked.size(); t += 25) marked[t] = 1;
+    std::size_t with_marked = 0;
+    for (const auto& [t, u] : self_intersections(mesh, pairs).pairs)
+        with_marked += marked[t] || marked[u];
+    EXPECT_EQ(intersections_involving(mesh, marked, pairs).count, with_marked);
+}
+
+TEST(SelfIntersections, CornerOnTheOtherPlaneTouches) {
+    // Triangle abc, and a triangle with one corner exactly in abc's plane and inside it (a
+    // quarter along each side from a) and the two others well off the plane on one side: they
+    // touch, so the pair intersects. On a 2^-20 grid the determinants need more than a double's
+    // 53 bits, and in plain double arithmetic the touching corner's side often comes out
+    // nonzero, either way.
+    std::mt19937 rng(23);
+    std::uniform_int_distribution<int> coord(0, 1 << 20);
+    auto on_grid = [&] { return float(coord(rng)) * 0x1p-20f; };
+    int pairs = 0, rounded = 0;
+    while (pairs < 500) {
+        const V a(on_grid(), on_grid(), on_grid()), b(on_grid(), on_grid(), on_grid()),
+            c(on_grid(), on_grid(), on_grid());
+        const glm::vec3 n = glm::cross(b - a, c - a);
+        if (glm::length(n) < 0.05f) continue;
+        const V d = a + 0.25f * (b - a) + 0.25f * (c - a); // exact: a 2^-22 grid, under 1
+        const V lift = 0.5f * glm::normalize(n);
+        const Mesh mesh{{a, b, c, d, d + lift + 0.3f * (b - a), d + lift + 0.3f * (c - a)},
+                        {0, 1, 2, 3, 4, 5}};
+        ASSERT_EQ(count_self_intersections(mesh), 1u) << pairs;
+        const glm::dvec3 w = glm::dvec3(d) - glm::dvec3(a);
+        rounded += glm::dot(w, glm::cross(glm::dvec3(b) - glm::dvec3(a),
+                                          glm::dvec3(c) - glm::dvec3(a))) != 0.0;
+        ++pairs;
+    }
+    EXPECT_GT(rounded, 50); // plain double arithmetic put d off the plane that often
 }
 
 TEST(SelfIntersections, InvolvingMarkedTrianglesMatchesTheFullList) {
