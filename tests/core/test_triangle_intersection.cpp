@@ -236,6 +236,21 @@ TEST(TriangleIntersection, OrderFreeOnASmallGrid) {
 // ---------------------------------------------------------------------------------------------
 // Mesh counts.
 
+// The mesh's intersecting pairs by triangles_intersect on every pair, the count's reference.
+std::size_t intersecting_pairs_one_by_one(const Mesh& mesh) {
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        for (std::size_t u = t + 1; u < mesh.triangle_count(); ++u) {
+            glm::vec3 a[3], b[3];
+            for (int k = 0; k < 3; ++k) {
+                a[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
+                b[k] = mesh.positions[mesh.indices[3 * u + std::size_t(k)]];
+            }
+            count += triangles_intersect(a, b) ? 1 : 0;
+        }
+    return count;
+}
+
 TEST(SelfIntersections, ClosedSphereHasNone) {
     const Mesh mesh = test::phantom_mc("sphere", 32);
     ASSERT_GT(mesh.triangle_count(), 1000u);
@@ -271,16 +286,7 @@ TEST(SelfIntersections, GridMatchesAllPairs) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> jitter(-0.6f, 0.6f);
     for (glm::vec3& p : mesh.positions) p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
-    std::size_t brute = 0;
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
-        for (std::size_t u = t + 1; u < mesh.triangle_count(); ++u) {
-            glm::vec3 a[3], b[3];
-            for (int k = 0; k < 3; ++k) {
-                a[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
-                b[k] = mesh.positions[mesh.indices[3 * u + std::size_t(k)]];
-            }
-            brute += triangles_intersect(a, b) ? 1 : 0;
-        }
+    const std::size_t brute = intersecting_pairs_one_by_one(mesh);
     EXPECT_GT(brute, 0u);
     const SelfIntersections found = self_intersections(mesh, 1u << 20);
     EXPECT_EQ(found.count, brute);
@@ -307,16 +313,7 @@ TEST(SelfIntersections, GridMatchesAllPairsOnALattice) {
             continue;
         mesh.indices.insert(mesh.indices.end(), {a, b, c});
     }
-    std::size_t brute = 0;
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
-        for (std::size_t u = t + 1; u < mesh.triangle_count(); ++u) {
-            glm::vec3 p[3], q[3];
-            for (int k = 0; k < 3; ++k) {
-                p[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
-                q[k] = mesh.positions[mesh.indices[3 * u + std::size_t(k)]];
-            }
-            brute += triangles_intersect(p, q) ? 1 : 0;
-        }
+    const std::size_t brute = intersecting_pairs_one_by_one(mesh);
     const std::size_t pairs = mesh.triangle_count() * (mesh.triangle_count() - 1) / 2;
     EXPECT_GT(brute, pairs / 10);
     EXPECT_LT(brute, pairs);
