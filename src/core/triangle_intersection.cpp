@@ -448,9 +448,10 @@ class PlaneSide {
     glm::dvec3 origin_, normal_, magnitude_;
 };
 
-// Whether triangles t and u (corner indices given) certainly do not meet because the corners of
-// u it does not share with t lie strictly on one side of t's plane: the test triangles_intersect
-// settles almost every pair with, without its set-up. False means only "not settled here".
+// Whether triangles t and u (corner indices given) certainly do not meet: the corners of u that
+// are not corners of t lie strictly on one side of t's plane. This is the test with which
+// triangles_intersect settles almost every pair, here without its set-up; false means only
+// "not settled here".
 bool apart_by_plane(const PlaneSide& plane_of_t, const std::uint32_t* t, const std::uint32_t* u,
                     const glm::vec3 u_corners[3]) {
     int side = 0;
@@ -461,6 +462,16 @@ bool apart_by_plane(const PlaneSide& plane_of_t, const std::uint32_t* t, const s
         side = s;
     }
     return side != 0;
+}
+
+// Whether mesh triangles t (corners p, its plane given) and u (corners q) meet: the planes'
+// test each way first, then triangles_intersect.
+bool pair_intersects(const PlaneSide& plane_of_t, const std::uint32_t* t_index,
+                     const glm::vec3 p[3], const std::uint32_t* u_index, const glm::vec3 q[3]) {
+    if (apart_by_plane(plane_of_t, t_index, u_index, q) ||
+        apart_by_plane(PlaneSide(q), u_index, t_index, p))
+        return false;
+    return triangles_intersect(p, q);
 }
 
 void check_indices(const Mesh& mesh) {
@@ -538,11 +549,9 @@ SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::ui
                         glm::max(first_t, grid.cell_of(boxes[u].lo)) != cell)
                         continue;
                     corners(u, q);
-                    const std::uint32_t* u_index = &mesh.indices[3 * std::size_t(u)];
-                    if (apart_by_plane(plane_of_t, t_index, u_index, q) ||
-                        apart_by_plane(PlaneSide(q), u_index, t_index, p))
-                        continue;
-                    if (triangles_intersect(p, q)) hits.push_back(u);
+                    if (pair_intersects(plane_of_t, t_index, p, &mesh.indices[3 * std::size_t(u)],
+                                        q))
+                        hits.push_back(u);
                 }
             });
             part.count += hits.size();
@@ -614,11 +623,8 @@ SelfIntersections few_marked_intersections(const Mesh& mesh,
                         glm::max(first_u, grid.cell_of(boxes[t].lo)) != cell)
                         continue;
                     corners(t, q);
-                    const std::uint32_t* t_index = &mesh.indices[3 * std::size_t(t)];
-                    if (apart_by_plane(plane_of_u, u_index, t_index, q) ||
-                        apart_by_plane(PlaneSide(q), t_index, u_index, p))
-                        continue;
-                    if (triangles_intersect(q, p)) {
+                    if (pair_intersects(plane_of_u, u_index, p, &mesh.indices[3 * std::size_t(t)],
+                                        q)) {
                         ++part.count;
                         part.pairs.emplace_back(std::min(std::uint32_t(u), t),
                                                 std::max(std::uint32_t(u), t));
