@@ -45,13 +45,14 @@ std::vector<float> signed_iso_distances(const Mesh& world_mesh, const Volume& vo
     // Inside is where I >= iso (Above): I - iso is negative outside there, so it is negated.
     const float outward = inside == InsideIs::Above ? -1.0f : 1.0f;
     for_each_chunk(distance.size(), kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+        CellCorners kept; // neighbouring triangles mostly share a cell
         for (std::size_t t = begin; t < end; ++t) {
             const glm::vec3 c = index_centroid(world_mesh, volume, t);
             if (!finite(c)) {
                 distance[t] = std::numeric_limits<float>::quiet_NaN();
                 continue;
             }
-            const ValueGradient here = sample_value_gradient(volume, c);
+            const ValueGradient here = sample_value_gradient(volume, c, kept);
             const float slope = glm::length(here.gradient);
             distance[t] = slope > 1e-12f ? outward * (here.value - iso) / slope : 0.0f;
         }

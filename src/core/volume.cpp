@@ -132,27 +132,34 @@ AxisOffsets axis_offsets(int base, int n, std::ptrdiff_t stride) {
 
 } // namespace
 
-ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p) {
-    const Cell cell = locate(volume.dims, p);
+namespace {
+
+void fill_cell_corners(const Volume& volume, glm::ivec3 base, CellCorners& out) {
     const std::ptrdiff_t row = volume.dims.x, plane = std::ptrdiff_t(volume.dims.x) * volume.dims.y;
-    const AxisOffsets ax = axis_offsets(cell.base.x, volume.dims.x, 1);
-    const AxisOffsets ay = axis_offsets(cell.base.y, volume.dims.y, row);
-    const AxisOffsets az = axis_offsets(cell.base.z, volume.dims.z, plane);
+    const AxisOffsets ax = axis_offsets(base.x, volume.dims.x, 1);
+    const AxisOffsets ay = axis_offsets(base.y, volume.dims.y, row);
+    const AxisOffsets az = axis_offsets(base.z, volume.dims.z, plane);
     const float* s = volume.samples.data();
-    float value[2][2][2];
-    glm::vec3 gradient[2][2][2];
+    out.base = base;
     for (int z = 0; z < 2; ++z)
         for (int y = 0; y < 2; ++y)
             for (int x = 0; x < 2; ++x) {
                 const std::ptrdiff_t yz = ay.at[y] + az.at[z], xz = ax.at[x] + az.at[z],
                                      xy = ax.at[x] + ay.at[y];
-                value[z][y][x] = s[ax.at[x] + yz];
+                out.value[z][y][x] = s[ax.at[x] + yz];
                 glm::vec3 g(0.0f);
                 if (ax.span[x] > 0.0f) g.x = (s[ax.hi[x] + yz] - s[ax.lo[x] + yz]) * ax.inverse[x];
                 if (ay.span[y] > 0.0f) g.y = (s[ay.hi[y] + xz] - s[ay.lo[y] + xz]) * ay.inverse[y];
                 if (az.span[z] > 0.0f) g.z = (s[az.hi[z] + xy] - s[az.lo[z] + xy]) * az.inverse[z];
-                gradient[z][y][x] = g;
+                out.gradient[z][y][x] = g;
             }
+}
+
+} // namespace
+
+ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCorners& kept) {
+    const Cell cell = locate(volume.dims, p);
+    if (cell.base != kept.base) fill_cell_corners(volume, cell.base, kept);
     // The same order of mixes as trilinear(), so both results equal the separate functions'.
     const auto mix3 = [&](const auto& f) {
         const auto c00 = glm::mix(f[0][0][0], f[0][0][1], cell.t.x);
@@ -161,7 +168,12 @@ ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p) {
         const auto c11 = glm::mix(f[1][1][0], f[1][1][1], cell.t.x);
         return glm::mix(glm::mix(c00, c10, cell.t.y), glm::mix(c01, c11, cell.t.y), cell.t.z);
     };
-    return {mix3(value), mix3(gradient)};
+    return {mix3(kept.value), mix3(kept.gradient)};
+}
+
+ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p) {
+    CellCorners corners;
+    return sample_value_gradient(volume, p, corners);
 }
 
 ValueGradient sample_trilinear_with_gradient(const Volume& volume, glm::vec3 p) {

@@ -62,6 +62,19 @@ struct ValueGradient {
 };
 ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p);
 
+// What sample_value_gradient interpolates in one cell: its 8 corner samples and their central
+// differences. Points in the same cell (the sample points of one small triangle, consecutive
+// vertices of a mesh) share them, and the corners take 32 sample reads and 24 differences,
+// the interpolation only a few mixes.
+struct CellCorners {
+    glm::ivec3 base{-1}; // the cell's lower corner, as sampling clamps it; -1: none held yet
+    float value[2][2][2] = {};
+    glm::vec3 gradient[2][2][2] = {};
+};
+// sample_value_gradient, bit for bit, taking the corners from `kept` when p lies in the cell it
+// holds, else filling it with p's cell. `kept` must only ever be used with this one volume.
+ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCorners& kept);
+
 // sample_trilinear (bit for bit) and the exact gradient of that trilinear field (per index
 // unit), both from the 8 samples of p's cell: a quarter of the memory reads of
 // sample_value_gradient, but a gradient that jumps across cell faces (within a cell each

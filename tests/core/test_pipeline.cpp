@@ -152,6 +152,33 @@ TEST(Pipeline, ResultsDoNotDependOnTheThreadCount) {
     }
 }
 
+// The first-order distance keeps the last cell's corners per thread: a second function, for a
+// volume made after the first one is gone (and so perhaps at its address), must not read them.
+TEST(Pipeline, FirstOrderDistanceNeverReadsAnotherVolumesCell) {
+    const glm::vec3 p(3.25f, 2.5f, 4.75f);
+    const auto distance_with = [&](float slope, float shift) {
+        Volume v = make_volume({8, 8, 8});
+        for (int z = 0; z < 8; ++z)
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 8; ++x)
+                    v.samples[v.index(x, y, z)] = slope * (float(x) - shift);
+        return first_order_distance(std::make_shared<const Volume>(std::move(v)), 0.0f)(p);
+    };
+    // |I - iso| / |grad I| of I = slope (x - shift) is |x - shift|; the sample point is in the
+    // same cell both times.
+    EXPECT_FLOAT_EQ(distance_with(1.0f, 0.0f), 3.25f);
+    EXPECT_FLOAT_EQ(distance_with(2.0f, 1.0f), 2.25f);
+    // Two volumes alive at once, asked in turn from one thread.
+    Volume a = make_volume({8, 8, 8}, 1.0f), b = make_volume({8, 8, 8});
+    for (std::size_t i = 0; i < b.samples.size(); ++i) b.samples[i] = float(i % 8);
+    const DistanceFunction to_a = first_order_distance(std::make_shared<const Volume>(a), 0.0f);
+    const DistanceFunction to_b = first_order_distance(std::make_shared<const Volume>(b), 0.0f);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(to_a(p), 0.0f) << "a flat volume has no gradient";
+        EXPECT_FLOAT_EQ(to_b(p), 3.25f);
+    }
+}
+
 TEST(Parallel, ThreadLimitsNestAndComeBack) {
     const unsigned cores = thread_budget();
     {

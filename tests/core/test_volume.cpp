@@ -87,6 +87,34 @@ TEST(Volume, ValueAndGradientTogetherEqualTheSeparateSamplers) {
     }
 }
 
+// The kept corners of a cell are the ones sample_value_gradient would compute: points visited
+// in runs within one cell (as a triangle's sample points are) and jumps to other cells, the
+// border's one-sided differences and cells clamped to the grid included, give the same bits.
+TEST(Volume, KeptCellCornersGiveTheSameValueAndGradient) {
+    for (glm::ivec3 dims : {glm::ivec3(7, 6, 5), glm::ivec3(1, 4, 3), glm::ivec3(2, 1, 2)}) {
+        const Volume v = wavy_volume(dims);
+        UnitRandom next{777u};
+        CellCorners kept;
+        int reused = 0;
+        for (int k = 0; k < 300; ++k) {
+            const glm::vec3 cell =
+                glm::floor(glm::vec3(next(), next(), next()) * (glm::vec3(dims) + 1.0f)) - 1.0f;
+            for (int j = 0; j < 4; ++j) {
+                const glm::vec3 p = cell + glm::vec3(next(), next(), next());
+                const glm::ivec3 before = kept.base;
+                const ValueGradient cached = sample_value_gradient(v, p, kept);
+                reused += kept.base == before ? 1 : 0;
+                const ValueGradient fresh = sample_value_gradient(v, p);
+                ASSERT_EQ(cached.value, fresh.value);
+                ASSERT_EQ(cached.gradient.x, fresh.gradient.x);
+                ASSERT_EQ(cached.gradient.y, fresh.gradient.y);
+                ASSERT_EQ(cached.gradient.z, fresh.gradient.z);
+            }
+        }
+        EXPECT_GT(reused, 600); // most points of a run find their cell kept
+    }
+}
+
 // The trilinear field's own gradient: the value is sample_trilinear's bit for bit, a linear
 // field's gradient is exact, and inside a cell it is the derivative of sample_trilinear.
 TEST(Volume, TrilinearGradientIsTheDerivativeOfTheTrilinearField) {
