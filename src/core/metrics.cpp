@@ -15,6 +15,7 @@
 #include "metrics.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -688,6 +689,10 @@ struct MeshDistance::Impl {
     // Chessboard distance (cells) to an occupied cell, at most 255: a lower bound either way.
     std::vector<std::uint8_t> empty_shells;
 
+    // This grid's own number (no other grid of the process has it), for the per-thread caches
+    // of distance(): unlike an address, it is never reused by a later grid.
+    std::uint64_t serial = 0;
+
     static constexpr std::size_t kMaxCells = std::size_t(1) << 22;
 
     explicit Impl(Mesh&& reference);
@@ -729,6 +734,12 @@ struct MeshDistance::Impl {
         return {n, glm::dot(n, n), flat};
     }
     static Sphere bounding_sphere(const Corners& t);
+    // A triangle as the exact test reads it: its corners in the measuring space and its plane.
+    struct Measured {
+        Corners corners;
+        Plane plane;
+    };
+    const Measured& measured(std::uint32_t triangle) const;
     static bool beyond_plane(glm::dvec3 p, const Corners& t, const Plane& plane, double reach,
                              double bound);
     void build();
@@ -783,6 +794,8 @@ MeshDistance::Impl::Impl(const Mesh& reference, const WorldToIndex& map)
 }
 
 void MeshDistance::Impl::build() {
+    static std::atomic<std::uint64_t> grids_built{0};
+    serial = ++grids_built;
     if (triangle_count() == 0)
         throw std::invalid_argument("mesh distance: the reference mesh has no triangles");
     if (triangle_count() >= kNone)
@@ -981,6 +994,33 @@ double MeshDistance::Impl::squared_distance_to_triangle(glm::dvec3 p, const Corn
     return height * height / plane.n2;
 }
 
+// The triangles that pass a query's sphere test are mostly those of the query before (the next
+// sample point of the same triangle, the next vertex): each thread keeps the last ones it
+// measured, so that their corners are mapped and their planes worked out once for a run of
+// queries rather than once a query. Direct-mapped by triangle number: neighbouring triangles
+// have nearby numbers and land in different slots.
+const MeshDistance::Impl::Measured& MeshDistance::Impl::measured(std::uint32_t triangle) const {
+    constexpr std::size_t kSlots = 128;
+    struct Kept {
+        std::uint64_t grid = 0; // the serial of the grid whose triangles the slots hold
+        std::array<std::uint32_t, kSlots> triangle{};
+        std::array<Measured, kSlots> measured{};
+    };
+    thread_local Kept kept;
+    if (kept.grid != serial) {
+        kept.grid = serial;
+        kept.triangle.fill(kNone);
+    }
+    const std::size_t slot = triangle % kSlots;
+    Measured& m = kept.measured[slot];
+    if (kept.triangle[slot] != triangle) {
+        kept.triangle[slot] = triangle;
+        m.corners = corners(triangle);
+        m.plane = plane_of(m.corners, spheres[triangle].flat());
+    }
+    return m;
+}
+
 float MeshDistance::Impl::distance(glm::vec3 point) const {
     if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z))
         return std::numeric_limits<float>::quiet_NaN();
@@ -1013,9 +1053,8 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         nearest = triangle;
     };
     if (hint.owner == this && hint.triangle < spheres.size()) {
-        const Corners t = corners(hint.triangle);
-        take(squared_distance_to_triangle(p, t, plane_of(t, spheres[hint.triangle].flat())),
-             hint.triangle);
+        const Measured& t = measured(hint.triangle);
+        take(squared_distance_to_triangle(p, t.corners, t.plane), hint.triangle);
     }
     // Reused by each thread: no allocation per query.
     thread_local std::vector<Candidate> candidates;
@@ -1037,11 +1076,11 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
                 const glm::dvec3 to_centre = p - glm::dvec3(sphere.centre);
                 const double reach = prune_root + double(sphere.radius());
                 if (glm::dot(to_centre, to_centre) >= reach * reach) continue; // sphere too far
-                const Corners t = corners(id);
-                const Plane plane = plane_of(t, sphere.flat());
-                if (beyond_plane(p, t, plane, reach + double(sphere.radius()), prune_root))
+                const Measured& t = measured(id);
+                if (beyond_plane(p, t.corners, t.plane, reach + double(sphere.radius()),
+                                 prune_root))
                     continue;
-                const double d = squared_distance_to_triangle(p, t, plane);
+                const double d = squared_distance_to_triangle(p, t.corners, t.plane);
                 if (d < best) take(d, id);
             }
         }

@@ -580,6 +580,30 @@ TEST(MeshDistance, AnswerDoesNotDependOnThePointBefore) {
     EXPECT_EQ(compared, 5 * int(points.size()));
 }
 
+// Each thread keeps the triangles it measured last. A grid made after another is gone (perhaps
+// at its address, with the same triangle numbers) and two grids asked in turn must each measure
+// their own triangles.
+TEST(MeshDistance, KeptTrianglesAreNeverAnotherGrids) {
+    const auto scaled = [](float scale) {
+        Mesh m = icosphere(2);
+        for (glm::vec3& p : m.positions) p *= scale;
+        return m;
+    };
+    const glm::vec3 p(0.3f, 0.2f, 1.9f), q(0.31f, 0.2f, 1.9f);
+    for (const float scale : {1.0f, 1.5f, 0.5f}) {
+        const Mesh m = scaled(scale);
+        const MeshDistance d(m);
+        for (const glm::vec3 x : {p, q, p})
+            EXPECT_NEAR(d(x), brute_force_distance(m, x), 1e-5) << "scale " << scale;
+    }
+    const Mesh small = scaled(0.5f), large = scaled(1.5f);
+    const MeshDistance to_small(small), to_large(large);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(to_small(p), brute_force_distance(small, p), 1e-5);
+        EXPECT_NEAR(to_large(p), brute_force_distance(large, p), 1e-5);
+    }
+}
+
 TEST(MeshDistance, ConcurrentQueriesAgree) {
     const MeshDistance d(icosphere(2));
     std::vector<glm::vec3> points;
