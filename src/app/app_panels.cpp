@@ -746,12 +746,16 @@ void App::draw_quality_tab() {
     ImGui::BeginChild("metrics", ImVec2(table_width, inner_height - pad), false,
                       ImGuiWindowFlags_HorizontalScrollbar);
     if (compact) ImGui::PushFont(fonts_.small);
-    // A frame not measured yet (a step, a moment ago) has its histogram but no table column.
+    // A mesh not measured yet (Marching Cubes just made, a step a moment ago) has its histogram
+    // but no table column.
     std::span<const render::PanelMethod> table_methods = methods;
-    const bool measuring = net && !net->metrics_complete;
-    if (measuring) table_methods = table_methods.first(methods.size() - 1);
+    const bool measuring_mc = mc && !mc->metrics_complete;
+    const bool measuring_net = net && !net->metrics_complete;
+    if (measuring_net) table_methods = table_methods.first(table_methods.size() - 1);
+    if (measuring_mc) table_methods = table_methods.subspan(1);
     render::metrics_table("metrics table", table_methods, groups, inner_width, table_fonts);
-    if (measuring)
+    if (measuring_mc) ImGui::TextDisabled("measuring Marching Cubes...");
+    if (measuring_net)
         ImGui::TextDisabled("measuring %s, iteration %d...",
                             std::string(label_of(net->method)).c_str(), net->iteration);
     if (compact) ImGui::PopFont();
@@ -774,7 +778,9 @@ void App::draw_convergence_tab() {
         smooth.push_back(float(s.smoothness));
         accuracy.push_back(float(s.accuracy_vertices));
     }
-    const MethodMetrics* mc = results_.mc ? &results_.mc->metrics : nullptr;
+    // Marching Cubes' line once it is measured (its smoothness comes with the metrics).
+    const MethodMetrics* mc =
+        results_.mc && results_.mc->metrics_complete ? &results_.mc->metrics : nullptr;
     const ImU32 color = render::method_color_u32(method_of(settings_.parameters.relax.mode));
     const bool has_accuracy = !accuracy.empty() && accuracy.front() >= 0;
     std::vector<ConvergencePlot> plots = {

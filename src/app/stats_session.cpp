@@ -37,8 +37,8 @@ std::size_t count_over(const std::vector<double>& v, double limit) {
 // measured (the convergence curves of every iteration may still be filling in).
 bool comparison_shown(const App& app) {
     const JobResults& r = app.results();
-    return r.mc && r.frame && r.mc_current && r.frame_current && r.frame->last &&
-           r.frame->metrics_complete;
+    return r.mc && r.frame && r.mc_current && r.frame_current && r.mc->metrics_complete &&
+           r.frame->last && r.frame->metrics_complete;
 }
 
 } // namespace

@@ -251,6 +251,9 @@ class Worker {
     void finish(Job& job, int from, bool converged);
     void feed_measurer(Job& job);
     void queue_compactness(Job& job);
+    std::shared_ptr<const DisplayMesh> make_marching_cubes(const Job& job, const Volume& volume,
+                                                           const Segmentation* mask,
+                                                           std::stop_token stop);
     std::shared_ptr<const DisplayMesh> make_frame(Job& job, int iteration,
                                                   std::span<const glm::vec3> positions);
     std::shared_ptr<const DisplayMesh> measured_frame(const Job& job,

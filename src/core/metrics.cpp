@@ -15,7 +15,6 @@
 #include "metrics.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -26,6 +25,7 @@
 
 #include "cell_lists.h"
 #include "parallel.h"
+#include "serial_number.h"
 
 namespace snert {
 namespace {
@@ -794,8 +794,7 @@ MeshDistance::Impl::Impl(const Mesh& reference, const WorldToIndex& map)
 }
 
 void MeshDistance::Impl::build() {
-    static std::atomic<std::uint64_t> grids_built{0};
-    serial = ++grids_built;
+    serial = next_serial_number();
     if (triangle_count() == 0)
         throw std::invalid_argument("mesh distance: the reference mesh has no triangles");
     if (triangle_count() >= kNone)

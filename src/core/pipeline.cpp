@@ -2,11 +2,11 @@
 #include "pipeline.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <utility>
 
+#include "serial_number.h"
 #include "triangle_intersection.h"
 
 namespace snert {
@@ -22,10 +22,7 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 DistanceFunction first_order_distance(std::shared_ptr<const Volume> volume, float iso) {
     if (!volume) return {};
-    // Every function made here has its own number, so that a thread's kept cell (below) is never
-    // read for another volume, even one later allocated at the same address.
-    static std::atomic<std::uint64_t> functions_made{0};
-    const std::uint64_t number = ++functions_made;
+    const std::uint64_t number = next_serial_number(); // tags each thread's kept cell (below)
     // |I(p) - iso| / |grad I(p)|: the distance to the iso-surface if the field were linear.
     return [volume = std::move(volume), iso, number](glm::vec3 p) {
         // The accuracy asks for the vertices in order and then for a triangle's points one after
@@ -81,17 +78,35 @@ MethodMetrics measure(const Mesh& index_mesh, const Volume& volume,
     return measure_into_world(mesh, volume, reference, what);
 }
 
-MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
-                                const DistanceFunction& reference, const Progress& progress) {
+Mesh marching_cubes_mesh(const Volume& grey, const Segmentation* mask,
+                         const PipelineOptions& options, const Progress& progress) {
+    if (mask) return marching_cubes(mask_volume(*mask, grey), {0.5f, InsideIs::Above}, progress);
+    return marching_cubes(grey, {options.iso, options.inside}, progress);
+}
+
+namespace {
+
+// Marching Cubes on the grey values or the label's mask, measured. The mask's volume has the
+// grey volume's grid, so measuring against the grey volume is the same (and it is let go first).
+MethodResult measured_marching_cubes(const Volume& grey, const Segmentation* mask,
+                                     const PipelineOptions& options,
+                                     const DistanceFunction& reference, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
-    Mesh mesh = marching_cubes(volume, {options.iso, options.inside}, progress);
+    Mesh mesh = marching_cubes_mesh(grey, mask, options, progress);
     const double ms = elapsed_ms(start);
     MethodResult result;
     result.method = Method::MarchingCubes;
-    result.metrics = measure_into_world(mesh, volume, reference, options.measure);
+    result.metrics = measure_into_world(mesh, grey, reference, options.measure);
     result.metrics.ms = ms;
     result.mesh = std::move(mesh);
     return result;
+}
+
+} // namespace
+
+MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
+                                const DistanceFunction& reference, const Progress& progress) {
+    return measured_marching_cubes(volume, nullptr, options, reference, progress);
 }
 
 MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
@@ -146,17 +161,10 @@ MethodResult run_method(Method method, const Volume& grey, const Segmentation* m
     PipelineOptions options = base;
     options.relax.iso = base.iso;
     if (const auto mode = relax_mode_of(method)) options.relax.mode = *mode;
-    if (mask) {
-        // The label's mask decides the topology; MC runs on it at 0.5 as 3D Slicer does.
-        if (method == Method::MarchingCubes) {
-            options.iso = 0.5f;
-            options.inside = InsideIs::Above;
-            return run_marching_cubes(mask_volume(*mask, grey), options, reference, progress);
-        }
-        return run_surface_net(grey, *mask, options, reference, progress);
-    }
+    // The label's mask, where there is one, decides the topology.
     if (method == Method::MarchingCubes)
-        return run_marching_cubes(grey, options, reference, progress);
+        return measured_marching_cubes(grey, mask, options, reference, progress);
+    if (mask) return run_surface_net(grey, *mask, options, reference, progress);
     // The threshold classified as the net is built: no byte a voxel (100 MiB on a
     // 512 x 512 x 400 CT) for the relaxation and the metrics to find in use.
     const auto start = std::chrono::steady_clock::now();

@@ -102,6 +102,13 @@ MethodMetrics measure_into_world(Mesh& mesh, const Volume& volume,
                                  const DistanceFunction& reference,
                                  const MeasureOptions& what = {});
 
+// Marching Cubes' mesh of a comparison in index space, not measured: the grey values at
+// options.iso, or the label's mask at 0.5 where one gives the topology (as 3D Slicer does). The
+// first half of run_method's Marching Cubes, for a caller that shows the mesh before its metrics
+// are done (the app); measure_into_world(mesh, grey, ...) is the second half.
+Mesh marching_cubes_mesh(const Volume& grey, const Segmentation* mask,
+                         const PipelineOptions& options, const Progress& progress = {});
+
 // Marching Cubes, measured.
 MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& options,
                                 const DistanceFunction& reference, const Progress& progress = {});

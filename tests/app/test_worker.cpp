@@ -578,6 +578,44 @@ TEST(Worker, AskedFrameComesQuickThenMeasured) {
     EXPECT_EQ(r.frame, measured);
 }
 
+// Marching Cubes goes out as soon as it is made, before the net, and again once measured: the
+// same geometry, the same mesh, the pipeline's metrics on the second.
+TEST(Worker, MarchingCubesComesQuickThenMeasured) {
+    Worker worker;
+    JobResults r;
+    const JobRequest job = phantom_job("two-spheres", 24, std::nullopt, 3);
+    r.start(worker.request(job));
+    std::vector<std::shared_ptr<const DisplayMesh>> mc;
+    bool net_before_measured = false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
+        for (const Message& m : worker.drain()) {
+            r.apply(m);
+            if (const auto* f = std::get_if<MarchingCubesMessage>(&m.payload))
+                mc.push_back(f->mesh);
+            if (std::holds_alternative<NetMessage>(m.payload) && mc.size() < 2)
+                net_before_measured = true;
+        }
+        std::this_thread::sleep_for(1ms);
+    }
+    ASSERT_TRUE(r.finished);
+    ASSERT_EQ(mc.size(), 2u);
+    EXPECT_FALSE(net_before_measured);
+    const DisplayMesh &quick = *mc[0], &measured = *mc[1];
+    EXPECT_FALSE(quick.metrics_complete);
+    EXPECT_TRUE(measured.metrics_complete);
+    EXPECT_EQ(quick.geometry, measured.geometry);
+    EXPECT_TRUE(same_mesh(quick.mesh, measured.mesh));
+    EXPECT_EQ(quick.metrics.triangles, quick.mesh.triangle_count());
+    EXPECT_EQ(quick.normals.size(), quick.mesh.vertex_count());
+    ASSERT_TRUE(quick.preview);
+    EXPECT_EQ(quick.preview, measured.preview);
+    EXPECT_NEAR(quick.metrics.quality.mean, measured.metrics.quality.mean, 1e-6);
+    EXPECT_FALSE(quick.metrics.accuracy); // not measured yet
+    EXPECT_EQ(r.mc, mc[1]);
+    expect_same_measures(measured.metrics, direct(job).mc.metrics);
+}
+
 // After the job, the measurer reduces the last meshes: the compactness curves and the pair at
 // one triangle count, measured again, as the CLI's compare --equal-count does.
 TEST(Worker, CompactnessFollowsTheJob) {
