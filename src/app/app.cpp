@@ -46,7 +46,8 @@ void apply_app_style(ImGuiStyle& style, float font_px) {
     style.ChildBorderSize = 1;
     ImVec4* c = style.Colors;
     c[ImGuiCol_Text] = ImVec4(0.11f, 0.12f, 0.13f, 1);
-    c[ImGuiCol_WindowBg] = ImVec4(0.955f, 0.96f, 0.968f, 1);
+    c[ImGuiCol_WindowBg] = ImVec4(kWindowBackground[0], kWindowBackground[1], kWindowBackground[2],
+                                  kWindowBackground[3]);
     c[ImGuiCol_ChildBg] = ImVec4(0, 0, 0, 0);
     c[ImGuiCol_MenuBarBg] = ImVec4(0.91f, 0.92f, 0.935f, 1);
     c[ImGuiCol_Header] = ImVec4(0.80f, 0.85f, 0.92f, 1);
@@ -96,6 +97,7 @@ App::App(AppOptions options)
     WorkerOptions worker_options;
     worker_options.history_budget_bytes = std::size_t(settings_.history_budget_mb) << 20;
     worker_options.give_way_to_the_ui = options_.background_worker;
+    worker_options.on_message = options_.wake;
     worker_ = std::make_unique<Worker>(worker_options);
     views_ = std::make_unique<ViewRenderer>();
 }
@@ -132,7 +134,8 @@ void App::frame() {
     ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImVec2(0, 0));
     const ImGuiWindowFlags host_flags =
         ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
-        ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoScrollWithMouse;
+        ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoScrollWithMouse |
+        ImGuiWindowFlags_NoBackground;
     ImGui::Begin("##snert", nullptr, host_flags);
     ImGui::PopStyleVar(2);
 
@@ -784,12 +787,19 @@ void App::notice(std::string text, bool error) {
 // --- Queries ------------------------------------------------------------------------------
 
 bool App::animating() const {
+    return frame_interval() < kIdleFrame;
+}
+
+double App::frame_interval() const {
     const bool frame_due =
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
-    return worker_->busy() || worker_->has_messages() || playing_ || frame_due ||
-           views_->needs_refine() || !requested_once_ ||
-           results_.generation != worker_->latest_generation() || notice_timer_ > 0 ||
-           screenshot_pending_;
+    if (worker_->has_messages() || playing_ || frame_due || views_->drawing_parts() ||
+        !requested_once_ || results_.generation != worker_->latest_generation() ||
+        notice_timer_ > 0 || screenshot_pending_)
+        return kAnimatingFrame;
+    // A view waiting to draw its whole mesh notices the wait is over at the next frame.
+    if (worker_->busy() || views_->needs_refine()) return kProgressFrame;
+    return kIdleFrame;
 }
 
 int App::view_render_count() const {

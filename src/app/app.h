@@ -30,6 +30,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
@@ -57,6 +58,11 @@ class SlicePanel;
 
 // What the command line (snert gui) or a test asks for; each given item overrides the saved
 // settings for this session (and is saved on exit like a choice made in the window).
+// The window's background: the glue clears to it and the app's host window, which covers the
+// window, draws no background of its own (with software GL, filling it again costs as much as
+// the clear).
+inline constexpr std::array<float, 4> kWindowBackground{0.955f, 0.96f, 0.968f, 1.0f};
+
 struct AppOptions {
     std::optional<SourceSpec> source; // the input; empty: the saved one
     std::optional<float> iso;         // a fixed iso value; empty: the saved choice
@@ -69,6 +75,7 @@ struct AppOptions {
     bool show_timings = true;       // false: no wall-clock times on screen (snapshot tests)
     float content_scale = 1.0f;     // the monitor's scale (HiDPI): multiplies the text size
     bool background_worker = false; // the worker gives way to the window (WorkerOptions)
+    std::function<void()> wake;     // WorkerOptions::on_message: wakes the glue's loop
 };
 
 // The Open panel's fields that are not applied until Open is pressed (the label and the DICOM
@@ -225,6 +232,12 @@ class App {
     // True while something is changing (a job, playback, a frame on its way): keep drawing
     // frames; otherwise the glue may sleep until the next input event.
     bool animating() const;
+    // How long the glue may wait for an event before it draws the next frame, in seconds:
+    // kAnimatingFrame while something moves on screen, kProgressFrame while only the worker's
+    // progress bar does (its results wake the loop through AppOptions::wake), kIdleFrame
+    // otherwise. Software GL draws the window with the processor the worker computes with.
+    static constexpr double kAnimatingFrame = 1.0 / 15, kProgressFrame = 1.0 / 5, kIdleFrame = 0.5;
+    double frame_interval() const;
     // The rectangle a named widget had in the last frame ("step_forward", "step_back",
     // "play", "iteration_slider", "run_to_convergence", "views", "iso_slider", ...).
     std::optional<UiRect> widget_rect(const std::string& id) const;

@@ -79,7 +79,8 @@ void HeadlessApp::frame(float dt) {
     app_->frame();
     ImGui::Render();
     impl_->target->bind();
-    glClearColor(1, 1, 1, 1);
+    glClearColor(kWindowBackground[0], kWindowBackground[1], kWindowBackground[2],
+                 kWindowBackground[3]);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (const auto request = app_->take_screenshot_request())

@@ -41,7 +41,11 @@ bool JobResults::apply(const Message& message) {
                 frame_recomputed = m.recomputed;
                 frame_current = true;
             } else if constexpr (std::is_same_v<T, FrameMetricsMessage>) {
-                if (frame && m.mesh && frame->geometry == m.mesh->geometry) frame = m.mesh;
+                // It measures a quick frame; a frame measured already (the relaxation's last,
+                // which may share the quick one's geometry) stays.
+                if (frame && m.mesh && frame->geometry == m.mesh->geometry &&
+                    !frame->metrics_complete)
+                    frame = m.mesh;
             } else if constexpr (std::is_same_v<T, FinishedMessage>) {
                 finished = m;
             } else if constexpr (std::is_same_v<T, CompactnessMessage>) {

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "app.h"
+#include "view_renderer.h"
 
 namespace snert::app {
 
@@ -76,6 +77,11 @@ void StatsSession::after_frame(const App& app, double frame_ms) {
             mc_triangles_ = r.mc->mesh.triangle_count();
             net_triangles_ = r.frame->mesh.triangle_count();
             iterations_ = r.frame->iteration;
+            const ViewRenderer& views = app.view_renderer();
+            mesh_draws_ = views.view_draws(0) + views.view_draws(1);
+            preview_draws_ = views.preview_draws(0) + views.preview_draws(1);
+            part_draws_ = views.part_draws();
+            part_ms_ = views.part_ms();
         }
         if (done_s_ >= 0 && curves_s_ >= 0) phase_ = Phase::Stepping;
         break;
@@ -113,13 +119,15 @@ std::string StatsSession::json() const {
         "\"frame_ms_max_later\": %.2f, \"step_latency_s_mean\": %.3f, "
         "\"step_latency_s_max\": %.3f, "
         "\"turn_fps\": %.2f, \"turn_frame_ms_max\": %.2f, \"mc_triangles\": %zu, "
-        "\"net_triangles\": %zu, \"iterations\": %d}",
+        "\"net_triangles\": %zu, \"iterations\": %d, \"mesh_draws\": %d, \"preview_draws\": %d, "
+        "\"part_draws\": %d, \"part_ms\": %.1f}",
         load_s_, mc_shown_s_ - load_s_, done_s_, done_s_ - load_s_, curves_s_,
         computing_frames_ms_.size(), mean(computing_frames_ms_), max(computing_frames_ms_),
         count_over(computing_frames_ms_, 50.0),
         computing_frames_ms_.empty() ? 0.0 : computing_frames_ms_.front(),
         max_later(computing_frames_ms_), mean(step_latencies_s_), max(step_latencies_s_), turn_fps,
-        max(turning_frames_ms_), mc_triangles_, net_triangles_, iterations_);
+        max(turning_frames_ms_), mc_triangles_, net_triangles_, iterations_, mesh_draws_,
+        preview_draws_, part_draws_, part_ms_);
     return text;
 }
 

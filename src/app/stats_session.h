@@ -13,6 +13,9 @@
 //   step_latency_s_*     a step pressed to the frame that shows its iteration
 //   turn_fps             frames per second while the camera turns on every frame (once the
 //                        worker is idle)
+//   mesh_draws, preview_draws, part_draws, part_ms
+//                        until the comparison is shown: the views' whole meshes drawn, their
+//                        stand-ins, and the parts of large meshes with their milliseconds
 // The glue (window.cpp) calls before_frame / after_frame around each frame. GL-free.
 #pragma once
 
@@ -37,6 +40,8 @@ class StatsSession {
     bool done() const { return phase_ == Phase::Done; }
     // Turning the camera stands for a drag, whose events wake every frame: no frame cap then.
     bool turning() const { return phase_ == Phase::Turning; }
+    // Past the computation: the session steps and turns by itself, from frame to frame.
+    bool acting() const { return phase_ != Phase::Computing; }
     // The figures as one JSON object (one line) and as a small table.
     std::string json() const;
     std::string table() const;
@@ -50,6 +55,10 @@ class StatsSession {
     double load_s_ = -1, mc_shown_s_ = -1, done_s_ = -1, curves_s_ = -1;
     std::vector<double> computing_frames_ms_, turning_frames_ms_;
     std::size_t mc_triangles_ = 0, net_triangles_ = 0;
+    // What the views drew until the comparison was shown: whole meshes (in one go or completed
+    // from parts), previews, and the parts with the time they took.
+    int mesh_draws_ = 0, preview_draws_ = 0, part_draws_ = 0;
+    double part_ms_ = 0;
     int iterations_ = 0;
     // Stepping: back three times, forward three times.
     int step_index_ = 0;

@@ -139,14 +139,15 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
         // Too many triangles for one frame: the preview now, the whole mesh in parts after.
         const bool large = views_[i].has_preview() && views_[i].triangle_count() > part_triangles_;
         if (all || dirty_[i]) {
-            const bool rapid = now - last_change_[i] < kQuiet;
+            if (dirty_[i] && drawing_parts_[i]) quiet_[i] = std::min(2 * quiet_[i], kLongestQuiet);
+            const bool rapid = now - last_change_[i] < quiet_[i];
             last_change_[i] = now;
             drawing_parts_[i] = false; // what it held shows what changed
             const bool preview = views_[i].has_preview() && (moving || rapid || large);
             draw_whole(i, viewport, camera, style, preview);
             if (preview && large && !moving && !rapid) start_parts(i, viewport, style);
             drew = true;
-        } else if (refine_[i] && !drawing_parts_[i] && now - last_change_[i] >= kQuiet) {
+        } else if (refine_[i] && !drawing_parts_[i] && now - last_change_[i] >= quiet_[i]) {
             if (large) {
                 start_parts(i, viewport, style);
             } else {
@@ -206,6 +207,8 @@ void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewpor
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     parts_drawn_[i] += part_triangles_;
+    ++part_draws_;
+    part_ms_ += ms;
     const double scale = std::clamp(kPartBudgetMs / std::max(ms, 0.01), 0.5, 2.0);
     part_triangles_ = std::clamp(std::size_t(double(part_triangles_) * scale), kMinPartTriangles,
                                  kMaxPartTriangles);
@@ -213,6 +216,7 @@ void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewpor
     parts_[i]->resolve();
     std::swap(targets_[i], parts_[i]);
     drawing_parts_[i] = false;
+    quiet_[i] = kQuiet;
     refine_[i] = false;
     ++view_draws_[i];
 }

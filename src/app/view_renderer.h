@@ -30,6 +30,11 @@ class ViewRenderer {
     static constexpr std::size_t kFirstPartTriangles = std::size_t(1) << 15;
     static constexpr std::size_t kMinPartTriangles = std::size_t(1) << 12;
     static constexpr std::size_t kMaxPartTriangles = std::size_t(1) << 26;
+    // A view's new mesh that cut its parts short (the relaxation playing faster than a clinical
+    // mesh can be drawn) doubles how long the view waits, still, before it starts them again, up
+    // to kLongestQuiet; a finished picture brings it back to kQuiet. The parts cut short were
+    // drawn for nothing, and they took the processor from the worker.
+    static constexpr std::chrono::milliseconds kLongestQuiet{3200};
 
     ViewRenderer();
     ~ViewRenderer();
@@ -64,6 +69,8 @@ class ViewRenderer {
                 const render::DrawStyle& style);
     // A view shows its preview: later render()s draw the whole mesh even if nothing moved.
     bool needs_refine() const { return refine_[0] || refine_[1]; }
+    // True while a view's whole mesh is being drawn in parts, a part a frame.
+    bool drawing_parts() const { return drawing_parts_[0] || drawing_parts_[1]; }
     // Triangles a part holds now (tests; it adapts to the time parts take).
     std::size_t part_triangles() const { return part_triangles_; }
     // The picture of a view (GL convention: row 0 at the bottom); 0 before the first render.
@@ -73,6 +80,11 @@ class ViewRenderer {
     // Times a view was drawn, and what its mesh sent to the GPU.
     int view_draws(int view) const { return view_draws_[std::size_t(view)]; }
     int preview_draws(int view) const { return preview_draws_[std::size_t(view)]; }
+    // Parts drawn (of both views) and the milliseconds they took, glFinish included.
+    int part_draws() const { return part_draws_; }
+    // How long view `view` waits, still, before it draws its whole mesh (kQuiet unless backed off).
+    std::chrono::milliseconds quiet(int view) const { return quiet_[std::size_t(view)]; }
+    double part_ms() const { return part_ms_; }
     const render::UploadCounters& uploads(int view) const {
         return views_[std::size_t(view)].counters();
     }
@@ -99,8 +111,11 @@ class ViewRenderer {
     std::array<std::size_t, kViews> parts_drawn_{}; // triangles drawn into parts_
     std::size_t part_triangles_ = kFirstPartTriangles;
     std::array<std::chrono::steady_clock::time_point, kViews> last_change_{};
+    std::array<std::chrono::milliseconds, kViews> quiet_{kQuiet, kQuiet};
     std::array<std::shared_ptr<const PreviewMesh>, kViews> previews_; // uploaded
     std::array<int, kViews> view_draws_{}, preview_draws_{};
+    int part_draws_ = 0;
+    double part_ms_ = 0;
     render::OrbitCamera last_camera_;
     render::DrawStyle last_style_;
     int render_count_ = 0;

@@ -117,6 +117,7 @@ int run_window(const WindowOptions& options) {
     // A person's window (and the stats session, which measures it) keeps its frames short;
     // a screenshot run only waits for the result.
     app_options.background_worker = options.screenshot_path.empty();
+    app_options.wake = [] { glfwPostEmptyEvent(); };
     auto app = std::make_unique<App>(app_options);
     glfwSetWindowUserPointer(glfw.window, app.get());
     glfwSetDropCallback(glfw.window, on_drop);
@@ -131,25 +132,25 @@ int run_window(const WindowOptions& options) {
     const auto started = std::chrono::steady_clock::now();
     auto last_frame = started;
     while (!glfwWindowShouldClose(glfw.window) && !app->quit_requested()) {
-        // Sleep until an event while nothing changes. While something does, draw at most
-        // kMaxFramesPerSecond, an event waking the loop at once: software GL draws with the
-        // processor the worker computes with, and a faster redraw of the same panels shows
-        // nothing new. Screenshots are taken as fast as frames come, and the stats session's
-        // turn stands for a drag, whose events would wake every frame.
-        constexpr double kMaxFramesPerSecond = 15.0;
+        // Sleep until an event, or until the app's frame interval has passed since the last
+        // frame (App::frame_interval: a few frames a second while only the worker's progress
+        // changes, its results and the person's input waking the loop at once). Screenshots
+        // are taken as fast as frames come, and the stats session's turn stands for a drag,
+        // whose events would wake every frame.
         if (!options.screenshot_path.empty() || (stats && stats->turning())) {
             glfwPollEvents();
-        } else if (options.stats || app->animating()) {
-            const double wait =
-                1.0 / kMaxFramesPerSecond -
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - last_frame)
-                    .count();
+        } else {
+            double interval = app->frame_interval();
+            // Once the comparison is in, the stats session acts between frames, with no events
+            // to wake the loop; until then it measures the window as a person would have it.
+            if (stats && stats->acting()) interval = std::min(interval, App::kAnimatingFrame);
+            const double wait = interval - std::chrono::duration<double>(
+                                               std::chrono::steady_clock::now() - last_frame)
+                                               .count();
             if (wait > 0)
                 glfwWaitEventsTimeout(wait);
             else
                 glfwPollEvents();
-        } else {
-            glfwWaitEventsTimeout(0.5);
         }
         last_frame = std::chrono::steady_clock::now();
         if (glfwGetWindowAttrib(glfw.window, GLFW_ICONIFIED)) {
@@ -167,7 +168,8 @@ int run_window(const WindowOptions& options) {
         glfwGetFramebufferSize(glfw.window, &fb_width, &fb_height);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glViewport(0, 0, fb_width, fb_height);
-        glClearColor(0.955f, 0.96f, 0.968f, 1.0f);
+        glClearColor(kWindowBackground[0], kWindowBackground[1], kWindowBackground[2],
+                     kWindowBackground[3]);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         const float scale = ImGui::GetIO().DisplayFramebufferScale.x;

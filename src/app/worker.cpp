@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <exception>
 #include <limits>
 
@@ -59,6 +60,13 @@ std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, std::uint64
     if (iteration < 0) // the net's frames share their job's preview
         display->preview = std::make_shared<const PreviewMesh>(make_preview(display->mesh));
     return display;
+}
+
+// The same vertices, bit for bit, and the same triangles.
+bool same_mesh(const Mesh& a, const Mesh& b) {
+    return a.indices == b.indices && a.positions.size() == b.positions.size() &&
+           std::memcmp(a.positions.data(), b.positions.data(),
+                       a.positions.size() * sizeof(glm::vec3)) == 0;
 }
 
 // What a quick frame shows before it is measured: counts and the quality of its triangles.
@@ -165,6 +173,7 @@ struct Worker::Job {
     std::unique_ptr<IterationHistory> history;
     std::shared_ptr<const DisplayMesh> final_frame; // the pipeline's own mesh of its last iteration
     int frame_sent = -1;                            // iteration of the last frame posted
+    std::shared_ptr<const DisplayMesh> sent_frame;  // ... and that frame
     std::vector<float> max_moves;                   // [k]: of iteration k
     std::stop_token stop;                           // the job's
     std::shared_ptr<const PreviewMesh> preview;     // of the net's frames
@@ -321,18 +330,23 @@ void Worker::measure_loop(std::stop_token thread_stop) {
 }
 
 void Worker::post(std::uint64_t generation, Payload payload) {
-    std::lock_guard lock(mutex_);
-    if (std::holds_alternative<FrameMessage>(payload)) {
-        frame_undrained_ = true;
-        // A newer frame replaces one the UI has not taken yet: frames are views, not events.
-        for (Message& m : outbox_) {
-            if (m.generation == generation && std::holds_alternative<FrameMessage>(m.payload)) {
-                m.payload = std::move(payload);
-                return;
+    {
+        std::lock_guard lock(mutex_);
+        bool replaced = false;
+        if (std::holds_alternative<FrameMessage>(payload)) {
+            frame_undrained_ = true;
+            // A newer frame replaces one the UI has not taken yet: frames are views, not events.
+            for (Message& m : outbox_) {
+                if (m.generation == generation && std::holds_alternative<FrameMessage>(m.payload)) {
+                    m.payload = std::move(payload);
+                    replaced = true;
+                    break;
+                }
             }
         }
+        if (!replaced) outbox_.push_back({generation, std::move(payload)});
     }
-    outbox_.push_back({generation, std::move(payload)});
+    if (options_.on_message) options_.on_message();
 }
 
 void Worker::set_stage(std::uint64_t generation, Stage stage) {
@@ -526,6 +540,11 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
         auto final_frame = std::const_pointer_cast<DisplayMesh>(
             display_mesh(std::move(net), ++next_geometry_, job.history->latest_iteration()));
         final_frame->last = true;
+        // The pipeline's mesh of the iteration the views already show (the quick frame, the
+        // same triangles) keeps that frame's geometry: a clinical mesh is not drawn again.
+        if (job.sent_frame && job.sent_frame->iteration == final_frame->iteration &&
+            same_mesh(job.sent_frame->mesh, final_frame->mesh))
+            final_frame->geometry = job.sent_frame->geometry;
         if (!job.preview)
             job.preview = std::make_shared<const PreviewMesh>(make_preview(final_frame->mesh));
         final_frame->preview = job.preview; // one per job: the views keep it
@@ -685,6 +704,7 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
         const auto frame = make_frame(job, target, positions);
         post(job.generation, FrameMessage{frame, recomputed});
         job.frame_sent = target;
+        job.sent_frame = frame;
         if (is_distance(color_by) && cached_mc_) {
             throw_if_stopped(stop);
             // The grey iso and its inside, as the accuracy reference measures.

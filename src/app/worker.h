@@ -191,6 +191,10 @@ struct WorkerOptions {
     // software GL beside the computation. Off for drivers that wait for the worker frame after
     // frame (tests, headless), where it would only slow the worker down.
     bool give_way_to_the_ui = false;
+    // Called, on the thread that posts, once a message can be drained: a window that draws
+    // only a few frames a second while the worker computes wakes at once for its results.
+    // It must be safe to call from any thread.
+    std::function<void()> on_message;
 };
 
 class Worker {

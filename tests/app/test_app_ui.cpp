@@ -163,6 +163,7 @@ TEST(AppUi, PlayRunsThroughTheIterations) {
     App& app = h->app();
     click_widget(*h, "play"); // at the end: plays from the start
     EXPECT_TRUE(app.playing());
+    EXPECT_EQ(app.frame_interval(), App::kAnimatingFrame); // not the progress bar's few frames
     EXPECT_EQ(app.shown_iteration(), 0);
     int last_seen = 0;
     bool increasing = true;
@@ -237,6 +238,7 @@ TEST(AppUi, ViewsAreRedrawnOnlyWhenSomethingChanges) {
     for (int i = 0; i < 5; ++i) h->frame();
     EXPECT_EQ(h->app().view_render_count(), before);
     EXPECT_FALSE(h->app().animating());
+    EXPECT_EQ(h->app().frame_interval(), App::kIdleFrame);
     h->tap(key::S); // smooth shading: one redraw
     EXPECT_EQ(h->app().view_render_count(), before + 1);
 }
@@ -875,10 +877,11 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
                                   << (wireframe ? " (wireframe)" : "");
     }
 
-    // Another mesh while the parts are drawn: they start again, and only a finished picture
-    // counts as drawn.
+    // Another mesh while the parts are drawn: they start again, after twice the wait (the parts
+    // cut short were drawn for nothing), and only a finished picture counts as drawn.
     ViewRenderer views;
     views.set_mesh(0, mesh);
+    const auto first_change = std::chrono::steady_clock::now();
     views.render(200, 150, camera, style); // the preview
     std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
     views.render(200, 150, camera, style); // the first part
@@ -886,11 +889,26 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     auto moved = std::make_shared<DisplayMesh>(*mesh);
     moved->geometry = 2;
     views.set_mesh(0, moved);
+    const auto changed = std::chrono::steady_clock::now();
     views.render(200, 150, camera, style);
     EXPECT_TRUE(views.needs_refine());
     EXPECT_EQ(views.view_draws(0), 0);
+    EXPECT_EQ(views.quiet(0), 2 * ViewRenderer::kQuiet);
+    const int parts_before = views.part_draws();
+    std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
+    views.render(200, 150, camera, style);
+    // Asked only when this thread was not held up past the longer wait (on a loaded machine),
+    // neither since the first change (then the second one did not come rapidly, and its parts
+    // start at once) nor since the second.
+    if (changed - first_change < 2 * ViewRenderer::kQuiet &&
+        std::chrono::steady_clock::now() - changed < 2 * ViewRenderer::kQuiet) {
+        EXPECT_EQ(views.part_draws(), parts_before) << "no parts within the longer wait";
+    }
+    std::this_thread::sleep_for(ViewRenderer::kQuiet);
     for (int k = 0; views.needs_refine() && k < 10000; ++k) views.render(200, 150, camera, style);
     EXPECT_EQ(views.view_draws(0), 1);
+    EXPECT_GT(views.part_draws(), parts_before);
+    EXPECT_EQ(views.quiet(0), ViewRenderer::kQuiet); // a finished picture: back to the short wait
     EXPECT_TRUE(view_pixels(views, 0, 200, 150) == one);
     h->frame(); // the app's own target is bound again for its frame
 }

@@ -2,6 +2,7 @@
 // request's result, frames of any iteration on request, shutdown while busy.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -165,6 +166,31 @@ TEST(Worker, OneJobGivesThePipelinesResult) {
     EXPECT_EQ(worker.progress().stage.load(), int(Stage::Done));
     EXPECT_EQ(worker.progress().fraction[std::size_t(Stage::MarchingCubes)].load(), 1.0f);
     EXPECT_FALSE(worker.busy());
+}
+
+// The window sleeps between its few frames while the worker computes: every message posted
+// calls on_message, after it can be drained, so the results wake the window at once.
+TEST(Worker, EveryMessageCallsOnMessage) {
+    std::atomic<int> calls{0};
+    WorkerOptions options;
+    options.on_message = [&] { ++calls; };
+    Worker worker(options);
+    JobResults r;
+    r.start(worker.request(phantom_job("sphere", 24, std::nullopt, 6)));
+    int drained = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
+        const std::vector<Message> messages = worker.drain();
+        drained += int(messages.size());
+        for (const Message& m : messages) r.apply(m);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(finished(r));
+    EXPECT_GT(drained, 0);
+    // The call follows the message's posting by a moment: wait for the last one.
+    for (int k = 0; k < 1000 && calls.load() < drained; ++k)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_GE(calls.load(), drained); // a frame replacing one not yet drained calls it too
 }
 
 // Hundreds of parameter changes, some mid-job, some while draining: no deadlock, and what the
@@ -614,6 +640,45 @@ TEST(Worker, MarchingCubesComesQuickThenMeasured) {
     EXPECT_FALSE(quick.metrics.accuracy); // not measured yet
     EXPECT_EQ(r.mc, mc[1]);
     expect_same_measures(measured.metrics, direct(job).mc.metrics);
+}
+
+// The pipeline's mesh of the last iteration is the quick frame of that iteration, measured: when
+// that frame went out, the last one keeps its geometry (the views do not draw it again).
+TEST(Worker, LastFrameKeepsTheGeometryOfItsQuickFrame) {
+    Worker worker;
+    int seen = 0;
+    for (int attempt = 0; attempt < 5 && seen == 0; ++attempt) {
+        JobResults r;
+        JobRequest job = phantom_job("sphere", 40, std::nullopt, 4);
+        job.options.relax.epsilon = 0.0f;
+        r.start(worker.request(job));
+        std::vector<std::shared_ptr<const DisplayMesh>> frames;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+        while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
+            for (const Message& m : worker.drain()) { // at once: every frame is taken
+                r.apply(m);
+                if (const auto* f = std::get_if<FrameMessage>(&m.payload))
+                    frames.push_back(f->mesh);
+            }
+        }
+        ASSERT_TRUE(r.finished && r.frame);
+        ASSERT_TRUE(r.frame->last && r.frame->metrics_complete);
+        EXPECT_TRUE(r.frame->metrics.to_marching_cubes);
+        for (const auto& f : frames) {
+            if (f->last || f->iteration != r.frame->iteration) continue;
+            ++seen;
+            EXPECT_FALSE(f->metrics_complete);
+            EXPECT_EQ(f->geometry, r.frame->geometry);
+            EXPECT_TRUE(same_mesh(f->mesh, r.frame->mesh));
+            // The quick frame's measurement, arriving late, does not replace the last frame.
+            auto measured = std::make_shared<DisplayMesh>(*f);
+            measured->metrics_complete = true;
+            const auto last = r.frame;
+            r.apply(Message{r.generation, FrameMetricsMessage{measured}});
+            EXPECT_EQ(r.frame, last);
+        }
+    }
+    EXPECT_GT(seen, 0) << "the quick frame of the last iteration never went out";
 }
 
 // After the job, the measurer reduces the last meshes: the compactness curves and the pair at
