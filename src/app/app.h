@@ -56,13 +56,13 @@ namespace snert::app {
 class ViewRenderer;
 class SlicePanel;
 
-// What the command line (snert gui) or a test asks for; each given item overrides the saved
-// settings for this session (and is saved on exit like a choice made in the window).
 // The window's background: the glue clears to it and the app's host window, which covers the
 // window, draws no background of its own (with software GL, filling it again costs as much as
 // the clear).
 inline constexpr std::array<float, 4> kWindowBackground{0.955f, 0.96f, 0.968f, 1.0f};
 
+// What the command line (snert gui) or a test asks for; each given item overrides the saved
+// settings for this session (and is saved on exit like a choice made in the window).
 struct AppOptions {
     std::optional<SourceSpec> source; // the input; empty: the saved one
     std::optional<float> iso;         // a fixed iso value; empty: the saved choice

@@ -82,9 +82,9 @@ class ViewRenderer {
     int preview_draws(int view) const { return preview_draws_[std::size_t(view)]; }
     // Parts drawn (of both views) and the milliseconds they took, glFinish included.
     int part_draws() const { return part_draws_; }
+    double part_ms() const { return part_ms_; }
     // How long view `view` waits, still, before it draws its whole mesh (kQuiet unless backed off).
     std::chrono::milliseconds quiet(int view) const { return quiet_[std::size_t(view)]; }
-    double part_ms() const { return part_ms_; }
     const render::UploadCounters& uploads(int view) const {
         return views_[std::size_t(view)].counters();
     }

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <exception>
 #include <limits>
 
@@ -60,13 +59,6 @@ std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, std::uint64
     if (iteration < 0) // the net's frames share their job's preview
         display->preview = std::make_shared<const PreviewMesh>(make_preview(display->mesh));
     return display;
-}
-
-// The same vertices, bit for bit, and the same triangles.
-bool same_mesh(const Mesh& a, const Mesh& b) {
-    return a.indices == b.indices && a.positions.size() == b.positions.size() &&
-           std::memcmp(a.positions.data(), b.positions.data(),
-                       a.positions.size() * sizeof(glm::vec3)) == 0;
 }
 
 // What a quick frame shows before it is measured: counts and the quality of its triangles.

@@ -2,6 +2,7 @@
 #include "mesh.h"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 
 #include "volume.h"
@@ -14,6 +15,12 @@ IndexToWorld index_to_world_map(const Volume& volume) {
 
 WorldToIndex world_to_index_map(const Volume& volume) {
     return {glm::inverse(index_to_world_linear(volume)), volume.origin};
+}
+
+bool same_mesh(const Mesh& a, const Mesh& b) {
+    return a.indices == b.indices && a.positions.size() == b.positions.size() &&
+           (a.positions.empty() || std::memcmp(a.positions.data(), b.positions.data(),
+                                               a.positions.size() * sizeof(glm::vec3)) == 0);
 }
 
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {

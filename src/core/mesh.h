@@ -20,6 +20,10 @@ struct Mesh {
     std::size_t vertex_count() const { return positions.size(); }
 };
 
+// The same triangles and the same vertices, bit for bit (a -0 differs from a 0, a NaN equals
+// itself): what "the same result" means for a mesh.
+bool same_mesh(const Mesh& a, const Mesh& b);
+
 struct Volume;
 
 // Applies the volume's index->world mapping to every vertex (index space -> millimetres).

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <thread>
 
@@ -68,12 +67,6 @@ Expected direct(const JobRequest& job) {
     e.mc = run_marching_cubes(p.volume, o, reference);
     e.net = run_surface_net(p.volume, segment_threshold(p.volume, o.iso, o.inside), o, reference);
     return e;
-}
-
-bool same_mesh(const Mesh& a, const Mesh& b) {
-    return a.positions.size() == b.positions.size() && a.indices == b.indices &&
-           std::memcmp(a.positions.data(), b.positions.data(),
-                       a.positions.size() * sizeof(glm::vec3)) == 0;
 }
 
 // Every measured fact of two metrics, not the time or the relaxation's numbers.
