@@ -156,6 +156,7 @@ bool separated_by_edge_plane(const TriangleData& a, const TriangleData& b) {
 struct Fan {
     std::uint32_t id, next, opposite, prev;
     bool quad;
+    bool on_ac; // a quad's node is its corner a or c: the a-c split passes through it
 };
 constexpr int kMaxFans = 12;
 
@@ -174,8 +175,13 @@ int closed_fan(const SurfaceNet& net, std::uint32_t node, Fan (&order)[kMaxFans]
         for (int i = 0; i < n; ++i)
             if (c[std::size_t(i)] == node) at = i;
         if (at < 0) return 0;
-        const auto corner = [&](int offset) { return c[std::size_t((at + offset) % n)]; };
-        fans[k] = {id, corner(1), n == 4 ? corner(2) : 0u, corner(n - 1), n == 4};
+        // at + offset < 2n: one subtraction instead of a division (four a polygon, every node
+        // of every step).
+        const auto corner = [&](int offset) {
+            const int i = at + offset;
+            return c[std::size_t(i < n ? i : i - n)];
+        };
+        fans[k] = {id, corner(1), n == 4 ? corner(2) : 0u, corner(n - 1), n == 4, at % 2 == 0};
     }
     std::uint32_t used = 1;
     order[0] = fans[0];
@@ -207,13 +213,11 @@ double normal_cos(const Triangle& a, const Triangle& b, const Points& p) {
     return size > 0.0 ? glm::dot(na, nb) / size : 1.0;
 }
 
-// (b - a) x (c - a), as glm::cross gives it, from the coordinates one by one. With glm's vec3
-// copies GCC moved each corner through the stack in two pieces and read it back in others: the
-// stalled loads were a third of this file's time in a relaxation step.
-glm::vec3 edge_cross(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-    const float ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
-    const float vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
-    return {uy * vz - vy * uz, uz * vx - vz * ux, ux * vy - vx * uy};
+// u x v, as glm::cross gives it, from the coordinates one by one. With glm's vec3 copies GCC
+// moved each vector through the stack in two pieces and read it back in others: the stalled
+// loads were a third of this file's time in a relaxation step.
+glm::vec3 cross_of(const glm::vec3& u, const glm::vec3& v) {
+    return {u.y * v.z - v.y * u.z, u.z * v.x - v.z * u.x, u.x * v.y - v.x * u.y};
 }
 
 // True when the triangles of `node`'s star (its polygons split as `along_ac` says) certainly
@@ -223,6 +227,11 @@ glm::vec3 edge_cross(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c)
 // star-shaped polygon around the node and each polygon fills its own wedge of it), so no two
 // triangles can meet in space. Decided in float with a wide margin; false when unsure, and the
 // pairs are tested (check_cell). On a smooth surface this settles nearly every cell.
+//
+// Runs for every node of every step, so each product is formed once: the turn from one rim
+// corner to the next is also the normal of the triangle between them and the node (every
+// triangle of a fan whose split passes through the node), and the turns back to the first
+// corner are dot products with one cross product.
 bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
                       const std::vector<std::uint8_t>& along_ac, std::span<const glm::vec3> p) {
     Fan fans[kMaxFans];
@@ -231,27 +240,37 @@ bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
     const glm::vec3 centre = p[node];
     glm::vec3 rim[2 * kMaxFans]; // the corners around the node, from the node
     int rim_count = 0;
-    // The normals of the polygons' triangles, split as split_polygon() splits them (taken here
-    // corner by corner: its arrays of indices, copied through the stack, stalled the loads).
-    glm::vec3 triangle_normals[2 * kMaxFans];
-    int triangle_count = 0;
-    glm::vec3 normal(0.0f);
-    const auto add_normal = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        triangle_normals[triangle_count] = edge_cross(p[a], p[b], p[c]);
-        normal += triangle_normals[triangle_count++];
-    };
+    // Where each fan's corners start on the rim, and whether its triangles all hold the node.
+    int rim_start[kMaxFans];
+    bool through_node[kMaxFans];
     for (int k = 0; k < count; ++k) {
         const Fan& f = fans[k];
-        if (!f.quad) {
-            const Triangle& t = net.triangles[f.id - net.quads.size()];
-            add_normal(t[0], t[1], t[2]);
-        } else {
-            const auto& q = net.quads[f.id];
-            for (const auto& t : kQuadSplitCorners[along_ac[f.id] != 0 ? 1 : 0])
-                add_normal(q[t[0]], q[t[1]], q[t[2]]);
-        }
+        rim_start[k] = rim_count;
+        through_node[k] = !f.quad || (along_ac[f.id] != 0) == f.on_ac;
         rim[rim_count++] = p[f.next] - centre;
         if (f.quad) rim[rim_count++] = p[f.opposite] - centre;
+    }
+    // turns[k] = rim[k] x rim[k + 1]. The other triangles: those of a quad split through its
+    // `next` and `prev` corners, (node, next, prev) and (next, opposite, prev).
+    glm::vec3 turns[2 * kMaxFans], other[2 * kMaxFans];
+    int other_count = 0;
+    glm::vec3 normal(0.0f);
+    for (int k = 0; k < rim_count; ++k)
+        turns[k] = cross_of(rim[k], rim[k + 1 < rim_count ? k + 1 : 0]);
+    for (int k = 0; k < count; ++k) {
+        const int r = rim_start[k];
+        if (through_node[k]) {
+            normal += turns[r];
+            if (fans[k].quad) normal += turns[r + 1];
+            continue;
+        }
+        const glm::vec3& next = rim[r];
+        const glm::vec3& opposite = rim[r + 1];
+        const glm::vec3& prev = rim[r + 2 < rim_count ? r + 2 : 0];
+        other[other_count] = cross_of(next, prev);
+        other[other_count + 1] = cross_of(opposite - next, prev - next);
+        normal += other[other_count] + other[other_count + 1];
+        other_count += 2;
     }
     // positive(x, size2): x > 0 beyond float rounding, x being a product of vectors whose squared
     // sizes multiply to size2, and of the normal. Compared squared: no square roots.
@@ -263,24 +282,32 @@ bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
     // Every triangle within 85 degrees of the mean normal: then no two of them fold onto each
     // other (normals more than 170 degrees apart, kFoldCos), which the pair test refuses.
     constexpr float kCos85Squared = 0.00759612f;
-    for (int t = 0; t < triangle_count; ++t) {
-        const float along = glm::dot(triangle_normals[t], normal);
-        const float size2 = glm::dot(triangle_normals[t], triangle_normals[t]);
-        if (!positive(along, size2) || along * along <= kCos85Squared * size2 * normal2)
-            return false;
-    }
+    const auto upright = [&](const glm::vec3& n) {
+        const float along = glm::dot(n, normal), size2 = glm::dot(n, n);
+        return positive(along, size2) && along * along > kCos85Squared * size2 * normal2;
+    };
+    for (int t = 0; t < other_count; ++t)
+        if (!upright(other[t])) return false;
     float rim2[2 * kMaxFans];
     for (int k = 0; k < rim_count; ++k) rim2[k] = glm::dot(rim[k], rim[k]);
-    // Every turn of the rim is positive (under half a turn) ...
-    const auto turn = [&](glm::vec3 a, glm::vec3 b) { return glm::dot(glm::cross(a, b), normal); };
+    // Every turn of the rim is positive (under half a turn), and those that are triangles of the
+    // star upright ...
+    for (int k = 0; k < count; ++k) {
+        if (!through_node[k]) continue;
+        for (int r = rim_start[k]; r < rim_start[k] + (fans[k].quad ? 2 : 1); ++r)
+            if (!upright(turns[r])) return false;
+    }
     for (int k = 0; k < rim_count; ++k) {
-        const int next = (k + 1) % rim_count;
-        if (!positive(turn(rim[k], rim[next]), rim2[k] * rim2[next])) return false;
+        const int next = k + 1 < rim_count ? k + 1 : 0;
+        if (!positive(glm::dot(turns[k], normal), rim2[k] * rim2[next])) return false;
     }
     // ... and only the last one comes back to the first corner's direction: one turn in all.
+    // The turn from the first corner to corner k, (rim[0] x rim[k]) . normal, is
+    // rim[k] . (normal x rim[0]).
+    const glm::vec3 across = cross_of(normal, rim[0]);
     for (int k = 1; k + 1 < rim_count; ++k)
-        if (!positive(-turn(rim[k], rim[0]), rim2[k] * rim2[0]) &&
-            !positive(-turn(rim[0], rim[k + 1]), rim2[0] * rim2[k + 1]))
+        if (!positive(glm::dot(rim[k], across), rim2[k] * rim2[0]) &&
+            !positive(-glm::dot(rim[k + 1], across), rim2[0] * rim2[k + 1]))
             return false;
     return true;
 }
