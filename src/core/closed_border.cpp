@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "huge_pages.h"
 #include "parallel.h"
 
 namespace snert {
@@ -79,7 +80,7 @@ Volume pad_outside(const Volume& volume, float iso, InsideIs rule) {
     padded.spacing = volume.spacing;
     padded.direction = volume.direction;
     padded.origin = index_to_world(volume, glm::vec3(-1.0f));
-    padded.samples.resize(checked_count(padded.dims));
+    detail::resize_on_huge_pages(padded.samples, checked_count(padded.dims));
     fill_padded(volume.samples.data(), volume.dims, padded.samples.data(),
                 [iso, rule](float v) { return outside_pad_value(v, iso, rule); });
     return padded;

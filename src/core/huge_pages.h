@@ -1,10 +1,10 @@
-// Large fresh buffers on transparent huge pages (internal to snert_core).
+// Large fresh buffers on transparent huge pages (internal to snert_core and snert_io).
 //
 // A fresh buffer costs a page fault per 4 KiB page when first written, and for the volume- and
-// mesh-sized outputs of segmentation, Marching Cubes and the net those faults were a good part
-// of the run time (a 256^3 segmentation: 4096 faults, about as long as thresholding it). Where
-// Linux allows transparent huge pages on request (its default "madvise" mode), the buffer asks
-// for them and faults 2 MiB at a time. Elsewhere, or when refused, nothing changes: only speed
+// mesh-sized buffers of the readers, segmentation, Marching Cubes and the net those faults were a
+// good part of the run time (a 256^3 segmentation: 4096 faults, about as long as thresholding it).
+// Where Linux allows transparent huge pages on request (its default "madvise" mode), the buffer
+// asks for them and faults 2 MiB at a time. Elsewhere, or when refused, nothing changes: only speed
 // is at stake, never contents.
 #pragma once
 

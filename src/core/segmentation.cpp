@@ -61,7 +61,7 @@ Volume mask_volume(const Segmentation& segmentation, const Volume& like) {
     v.spacing = like.spacing;
     v.origin = like.origin;
     v.direction = like.direction;
-    v.samples.resize(segmentation.inside.size());
+    detail::resize_on_huge_pages(v.samples, segmentation.inside.size());
     for (std::size_t i = 0; i < v.samples.size(); ++i)
         v.samples[i] = segmentation.inside[i] ? 1.0f : 0.0f;
     return v;

@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "core/huge_pages.h"
 #include "file_bytes.h"
 #include "numbered_series.h"
 #include "sizes.h"
@@ -116,7 +117,7 @@ LoadedVolume open_raw(const std::string& path, const RawOptions& raw, const Load
     Volume& volume = result.volume;
     volume.dims = dims;
     volume.spacing = raw.spacing;
-    volume.samples.resize(volume.voxel_count());
+    detail::resize_on_huge_pages(volume.samples, volume.voxel_count());
     float* out = volume.samples.data();
     auto* tail = static_cast<unsigned char*>(
         in_place ? detail::stored_tail(out, volume.voxel_count(), raw.type) : nullptr);

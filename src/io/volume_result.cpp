@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/huge_pages.h"
 #include "volume_checks.h"
 
 namespace snert::detail {
@@ -37,7 +38,7 @@ Volume allocate_volume(const std::string& path, glm::ivec3 dims, const Geometry&
     v.spacing = g.spacing;
     v.origin = g.origin;
     v.direction = g.direction;
-    v.samples.resize(v.voxel_count());
+    detail::resize_on_huge_pages(v.samples, v.voxel_count());
     return v;
 }
 
