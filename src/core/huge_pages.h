@@ -18,9 +18,9 @@
 
 namespace snert::detail {
 
-// Sizes the empty vector `v` to n value-initialised elements, its storage advised to use huge
-// pages first.
-template <class T> void resize_on_huge_pages(std::vector<T>& v, std::size_t n) {
+// Sizes the empty vector `v` to n copies of `value`, its storage advised to use huge pages first.
+template <class T>
+void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
     v.reserve(n);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     constexpr std::uintptr_t kHuge = std::uintptr_t(1) << 21;
@@ -29,7 +29,7 @@ template <class T> void resize_on_huge_pages(std::vector<T>& v, std::size_t n) {
     const std::uintptr_t last = (begin + n * sizeof(T)) & ~(kHuge - 1);
     if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
 #endif
-    v.resize(n);
+    v.resize(n, value);
 }
 
 } // namespace snert::detail
