@@ -338,6 +338,17 @@ TEST(Topology, BoundaryEdgesOffTheBorder) {
     for (glm::vec3& p : small.positions) p += glm::vec3(2, 2, 5);
     EXPECT_EQ(boundary_edges_off_border(small, glm::ivec3(10), 1.0f), 16u);
     EXPECT_EQ(boundary_edges_off_border(unit_cube(), glm::ivec3(10), 1.0f), 0u); // closed
+    // One triangle: its three edges, whether one or both ends are inside; none when all three
+    // corners lie within the margin of a face.
+    Mesh one{{{0.5f, 4, 4}, {5, 4, 4}, {5, 6, 4}}, {0, 1, 2}};
+    EXPECT_EQ(boundary_edges_off_border(one, glm::ivec3(10), 1.0f), 3u);
+    one.positions = {{0.5f, 4, 4}, {1, 5, 4}, {0, 6, 5}};
+    EXPECT_EQ(boundary_edges_off_border(one, glm::ivec3(10), 1.0f), 0u);
+    // A collapsed triangle on edge 0-1 uses it twice more (no self-loop 1-1): it is no longer a
+    // boundary edge, the other two still are.
+    one.positions = {{2, 4, 4}, {5, 4, 4}, {5, 6, 4}};
+    one.indices = {0, 1, 2, 0, 1, 1};
+    EXPECT_EQ(boundary_edges_off_border(one, glm::ivec3(10), 1.0f), 2u);
 }
 
 TEST(Topology, SphereAndOctahedron) {
