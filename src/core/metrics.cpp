@@ -127,6 +127,22 @@ class FanAnalyser {
         return fan;
     }
 
+    // Calls visit(n) for each neighbour n > v joined to v by a boundary edge: the edges that
+    // analyse() counts as boundary_edges.
+    template <class Visit>
+    void for_each_boundary_neighbour(std::uint32_t v, const std::uint32_t* corners,
+                                     std::size_t count, Visit&& visit) {
+        bool collapsed = false;
+        collect(v, corners, count, collapsed);
+        for (std::size_t begin = 0, end = 0; begin < entries_.size(); begin = end) {
+            const std::uint32_t neighbour = entries_[begin].neighbour;
+            for (end = begin + 1; end < entries_.size() && entries_[end].neighbour == neighbour;
+                 ++end) {
+            }
+            if (neighbour > v && end - begin == 1) visit(neighbour);
+        }
+    }
+
   private:
     // Slot 2 j: outgoing edge v -> next of corner j; slot 2 j + 1: incoming edge previous -> v.
     struct Entry {
@@ -491,34 +507,19 @@ std::size_t boundary_edges_off_border(const Mesh& index_mesh, glm::ivec3 dims, f
         return glm::any(glm::lessThanEqual(p, glm::vec3(margin))) ||
                glm::any(glm::greaterThanEqual(p, top));
     };
-    // Each vertex's neighbours through its triangles, sorted: a neighbour met once is the far end
-    // of a boundary edge, counted at its smaller end. A few entries a vertex, sorted in parallel,
-    // where one sort of all edges took longer than the rest of the metrics' topology.
+    // Each vertex's boundary edges to larger neighbours (so each edge once), from its fan, in
+    // parallel: one sort of all edges on one thread took longer than the rest of the topology.
     const VertexCorners vc = vertex_corners(index_mesh);
     const std::size_t vertices = index_mesh.positions.size();
-    const std::vector<std::uint32_t>& indices = index_mesh.indices;
     std::vector<std::size_t> partials((vertices + kVertexChunk - 1) / kVertexChunk, 0);
     for_each_chunk(vertices, kVertexChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
-        std::vector<std::uint32_t> neighbours; // reused: no allocation per vertex
+        FanAnalyser analyser(index_mesh);
         std::size_t off = 0;
         for (std::size_t v = b; v < e; ++v) {
-            neighbours.clear();
-            for (std::size_t k = vc.offsets[v]; k < vc.offsets[v + 1]; ++k) {
-                const std::uint32_t c = vc.corners[k];
-                const std::uint32_t base = c - c % 3;
-                // The self-loop of a collapsed triangle is no edge.
-                for (const std::uint32_t n :
-                     {indices[base + (c % 3 + 1) % 3], indices[base + (c % 3 + 2) % 3]})
-                    if (n != v) neighbours.push_back(n);
-            }
-            std::sort(neighbours.begin(), neighbours.end());
-            for (std::size_t i = 0, j = 0; i < neighbours.size(); i = j) {
-                for (j = i + 1; j < neighbours.size() && neighbours[j] == neighbours[i]; ++j) {
-                }
-                const std::uint32_t n = neighbours[i];
-                if (j - i == 1 && n > v && (!near_border(std::uint32_t(v)) || !near_border(n)))
-                    ++off;
-            }
+            const auto u = std::uint32_t(v);
+            analyser.for_each_boundary_neighbour(
+                u, vc.corners.data() + vc.offsets[v], vc.offsets[v + 1] - vc.offsets[v],
+                [&](std::uint32_t n) { off += !near_border(u) || !near_border(n) ? 1 : 0; });
         }
         partials[chunk] = off;
     });
