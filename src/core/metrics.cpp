@@ -749,6 +749,12 @@ struct MeshDistance::Impl {
         return {n, glm::dot(n, n), flat};
     }
     static Sphere bounding_sphere(const Corners& t);
+    // Whether `sphere` comes nearer to p than `bound` (else no point of its triangle does).
+    static bool sphere_within(glm::dvec3 p, const Sphere& sphere, double bound) {
+        const glm::dvec3 to_centre = p - glm::dvec3(sphere.centre);
+        const double reach = bound + double(sphere.radius());
+        return glm::dot(to_centre, to_centre) < reach * reach;
+    }
     // A triangle as the exact test reads it: its corners in the measuring space and its plane.
     struct Measured {
         Corners corners;
@@ -1072,6 +1078,7 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
     }
     // Reused by each thread: no allocation per query.
     thread_local std::vector<Candidate> candidates;
+    thread_local std::vector<std::uint32_t> near; // a cell's triangles whose sphere is in reach
     // Shells nearer than the distance transform says are empty are skipped.
     for (int r = empty_shells[cell_index(home.x, home.y, home.z)];; ++r) {
         candidates.clear();
@@ -1085,11 +1092,23 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         });
         for (const Candidate& candidate : candidates) {
             if (beyond(candidate.squared_distance)) break;
-            for (const std::uint32_t id : cell_triangles.items(candidate.cell)) {
+            // Two passes over the cell's triangles: the sphere test of every one against the
+            // bound on entering the cell, without a branch (a sixth pass it, at random: the
+            // mispredicted branch cost more than the test), then the few left, tested again
+            // against the bound as it shrinks. A looser bound only lets more through, so the
+            // least distance found is the same.
+            const std::span<const std::uint32_t> items = cell_triangles.items(candidate.cell);
+            if (near.size() < items.size()) near.resize(items.size());
+            std::size_t count = 0;
+            for (const std::uint32_t id : items) {
+                near[count] = id;
+                count += sphere_within(p, spheres[id], prune_root);
+            }
+            for (std::size_t k = 0; k < count; ++k) {
+                const std::uint32_t id = near[k];
                 const Sphere& sphere = spheres[id];
-                const glm::dvec3 to_centre = p - glm::dvec3(sphere.centre);
+                if (!sphere_within(p, sphere, prune_root)) continue;
                 const double reach = prune_root + double(sphere.radius());
-                if (glm::dot(to_centre, to_centre) >= reach * reach) continue; // sphere too far
                 const Measured& t = measured(id);
                 if (beyond_plane(p, t.corners, t.plane, reach + double(sphere.radius()),
                                  prune_root))
