@@ -181,7 +181,12 @@ float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOp
     for_each_chunk(
         old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
             float local = 0.0f;
+            // The grey samples of a node a few ahead are fetched while this one is worked out.
+            constexpr std::size_t kAhead = 8;
+            const Volume* volume = grey != nullptr && sub_step.gradient ? grey->volume : nullptr;
             for (std::size_t i = begin; i < end; ++i) {
+                if (volume != nullptr && i + kAhead < end)
+                    prefetch_cell(*volume, old_positions[i + kAhead]);
                 const glm::vec3 move =
                     node_move_terms(net, grey, options, old_positions, std::uint32_t(i), sub_step,
                                     at_sliver[i] != 0)

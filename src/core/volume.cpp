@@ -201,6 +201,21 @@ ValueGradient sample_trilinear_with_gradient(const Volume& volume, glm::vec3 p) 
     return out;
 }
 
+void prefetch_cell(const Volume& volume, glm::vec3 p) {
+    if (volume.samples.empty()) return;
+    const Cell c = locate(volume.dims, p);
+    const std::size_t row = std::size_t(volume.dims.x);
+    const std::size_t plane = row * std::size_t(volume.dims.y);
+    const std::size_t last = volume.samples.size() - 1;
+    const std::size_t first = volume.index(c.base.x, c.base.y, c.base.z);
+    // The +1 sample of a row may be on the next cache line: its own hint then costs nothing.
+    for (const std::size_t offset : {std::size_t(0), row, plane, plane + row}) {
+        const float* sample = &volume.samples[std::min(first + offset, last)];
+        __builtin_prefetch(sample);
+        __builtin_prefetch(sample + 1);
+    }
+}
+
 glm::vec3 sample_trilinear(const GradientField& field, glm::vec3 p) {
     return trilinear<glm::vec3>(field.dims, p, [&](int x, int y, int z) {
         return field.values[(std::size_t(z) * field.dims.y + y) * field.dims.x + x];

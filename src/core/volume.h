@@ -81,6 +81,12 @@ ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCorne
 // component varies along the other two axes only).
 ValueGradient sample_trilinear_with_gradient(const Volume& volume, glm::vec3 p);
 
+// Asks the caches for the 8 samples of p's cell (the four rows of two samples it spans), for a
+// loop that will sample there a few items later: a hint only, no effect on any result. On a
+// clinical CT the cells of successive nodes lie far apart in memory, and a relaxation step
+// waited on each node's samples in turn.
+void prefetch_cell(const Volume& volume, glm::vec3 p);
+
 // Gradient field of Gaussian-derivative filters with standard deviation `sigma` (in voxels),
 // one vec3 per sample, same layout as Volume::samples. Separable, truncated at 3 sigma, the
 // border extended by clamping. sigma <= 0 falls back to central differences per sample.

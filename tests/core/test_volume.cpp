@@ -156,6 +156,29 @@ TEST(Volume, TrilinearGradientIsTheDerivativeOfTheTrilinearField) {
     }
 }
 
+// A hint for the caches: any point, even outside the volume or not finite, on any size of
+// volume, is accepted (the sanitizers check the addresses it forms) and nothing read changes.
+TEST(Volume, PrefetchCellAcceptsAnyPointAndChangesNothing) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const glm::vec3 points[] = {{0.0f, 0.0f, 0.0f},          {2.5f, 1.25f, 3.75f},
+                                {-3.0f, 9.0f, 1e30f},        {kInf, -kInf, 0.0f},
+                                {std::nanf(""), 1.0f, 1.0f}, {5.999f, 4.999f, 3.999f}};
+    for (const glm::ivec3 dims : {glm::ivec3(6, 5, 4), glm::ivec3(1, 1, 1), glm::ivec3(2, 1, 1)}) {
+        const Volume v = linear_ramp(dims);
+        const std::vector<float> before = v.samples;
+        for (const glm::vec3 p : points) {
+            const float value = sample_trilinear(v, p);
+            prefetch_cell(v, p);
+            if (std::isnan(value))
+                EXPECT_TRUE(std::isnan(sample_trilinear(v, p)));
+            else
+                EXPECT_EQ(sample_trilinear(v, p), value);
+        }
+        EXPECT_EQ(v.samples, before);
+    }
+    prefetch_cell(Volume{}, glm::vec3(1.0f)); // no samples: nothing to fetch
+}
+
 TEST(Volume, GaussianGradientOfLinearFieldAwayFromBorder) {
     const Volume v = linear_ramp({16, 16, 16});
     const GradientField field = gradient_field_gaussian(v, 1.5f);
