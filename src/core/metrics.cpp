@@ -1092,20 +1092,13 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         });
         for (const Candidate& candidate : candidates) {
             if (beyond(candidate.squared_distance)) break;
-            // Two passes over the cell's triangles: the sphere test of every one against the
-            // bound on entering the cell, without a branch (a sixth pass it, at random: the
-            // mispredicted branch cost more than the test), then the few left, tested again
-            // against the bound as it shrinks. A looser bound only lets more through, so the
-            // least distance found is the same.
-            const std::span<const std::uint32_t> items = cell_triangles.items(candidate.cell);
-            if (near.size() < items.size()) near.resize(items.size());
-            std::size_t count = 0;
-            for (const std::uint32_t id : items) {
-                near[count] = id;
-                count += sphere_within(p, spheres[id], prune_root);
-            }
-            for (std::size_t k = 0; k < count; ++k) {
-                const std::uint32_t id = near[k];
+            // The sphere test of every triangle against the bound on entering the cell first
+            // (detail::keep_passing), then the few kept, tested again against the bound as it
+            // shrinks. A looser bound only lets more through: the least distance is the same.
+            const auto kept = detail::keep_passing(
+                cell_triangles.items(candidate.cell), near,
+                [&](std::uint32_t id) { return sphere_within(p, spheres[id], prune_root); });
+            for (const std::uint32_t id : kept) {
                 const Sphere& sphere = spheres[id];
                 if (!sphere_within(p, sphere, prune_root)) continue;
                 const double reach = prune_root + double(sphere.radius());

@@ -419,9 +419,7 @@ void fill_grid(BoxGrid& grid, const std::vector<Box>& boxes,
         "self-intersections");
 }
 
-// Without a branch (the six comparisons joined bitwise): in a cell's list a few boxes in five
-// overlap, at random, and the mispredicted branches of a short-circuit test cost more than the
-// comparisons.
+// The six comparisons joined bitwise: without a branch, as detail::keep_passing wants it.
 bool boxes_overlap(const Box& a, const Box& b) {
     return bool(int(a.lo.x <= b.hi.x) & int(b.lo.x <= a.hi.x) & int(a.lo.y <= b.hi.y) &
                 int(b.lo.y <= a.hi.y) & int(a.lo.z <= b.hi.z) & int(b.lo.z <= a.hi.z));
@@ -552,16 +550,12 @@ SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::ui
                     items = items.subspan(
                         std::size_t(std::upper_bound(items.begin(), items.end(), std::uint32_t(t)) -
                                     items.begin()));
-                // The boxes' test for the whole list first, keeping the few that pass without
-                // a branch; then the rest of the tests for those.
-                if (overlapping.size() < items.size()) overlapping.resize(items.size());
-                std::size_t count = 0;
-                for (const std::uint32_t u : items) {
-                    overlapping[count] = u;
-                    count += boxes_overlap(boxes[t], boxes[u]);
-                }
-                for (std::size_t k = 0; k < count; ++k) {
-                    const std::uint32_t u = overlapping[k];
+                // The boxes' test for the whole list first (detail::keep_passing), then the
+                // rest of the tests for the few kept.
+                const auto kept = detail::keep_passing(items, overlapping, [&](std::uint32_t u) {
+                    return boxes_overlap(boxes[t], boxes[u]);
+                });
+                for (const std::uint32_t u : kept) {
                     if (u == t || (u < t && marked(u)) ||
                         glm::max(first_t, grid.cell_of(boxes[u].lo)) != cell)
                         continue;

@@ -208,7 +208,7 @@ void prefetch_cell(const Volume& volume, glm::vec3 p) {
     const std::size_t plane = row * std::size_t(volume.dims.y);
     const std::size_t last = volume.samples.size() - 1;
     const std::size_t first = volume.index(c.base.x, c.base.y, c.base.z);
-    // The +1 sample of a row may be on the next cache line: its own hint then costs nothing.
+    // The second sample of a row can start the next cache line: a second hint for it.
     for (const std::size_t offset : {std::size_t(0), row, plane, plane + row}) {
         const float* sample = &volume.samples[std::min(first + offset, last)];
         __builtin_prefetch(sample);

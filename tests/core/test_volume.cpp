@@ -167,12 +167,9 @@ TEST(Volume, PrefetchCellAcceptsAnyPointAndChangesNothing) {
         const Volume v = linear_ramp(dims);
         const std::vector<float> before = v.samples;
         for (const glm::vec3 p : points) {
-            const float value = sample_trilinear(v, p);
+            const float value = sample_trilinear(v, p); // finite: sampling clamps p
             prefetch_cell(v, p);
-            if (std::isnan(value))
-                EXPECT_TRUE(std::isnan(sample_trilinear(v, p)));
-            else
-                EXPECT_EQ(sample_trilinear(v, p), value);
+            EXPECT_EQ(sample_trilinear(v, p), value);
         }
         EXPECT_EQ(v.samples, before);
     }
