@@ -32,4 +32,16 @@ void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()
     v.resize(n, value);
 }
 
+// Makes `v` hold n copies of `value`: in its own storage when that has room (pages already
+// touched, no faults), else in fresh storage on huge pages, as resize_on_huge_pages.
+template <class T>
+void assign_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
+    if (v.capacity() >= n) {
+        v.assign(n, value);
+        return;
+    }
+    std::vector<T>().swap(v);
+    resize_on_huge_pages(v, n, value);
+}
+
 } // namespace snert::detail

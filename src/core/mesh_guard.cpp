@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "huge_pages.h"
@@ -427,15 +428,19 @@ void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spac
 } // namespace
 
 std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule rule,
-                                        glm::vec3 shape, std::span<const glm::vec3> positions) {
+                                        glm::vec3 shape, std::span<const glm::vec3> positions,
+                                        std::span<const std::uint8_t> splits) {
+    if (!splits.empty() && splits.size() != net.quads.size())
+        throw std::invalid_argument("sliver apexes: splits are not one per quad");
     std::vector<std::uint8_t> apex(net.node_count(), 0);
     const std::size_t polygons = net.quads.size() + net.triangles.size();
     for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
             const auto id = std::uint32_t(i);
             Triangle t[2];
-            const bool along =
-                id < net.quads.size() && splits_along_ac(net, id, positions, rule, shape);
+            const bool along = id < net.quads.size() &&
+                               (splits.empty() ? splits_along_ac(net, id, positions, rule, shape)
+                                               : splits[id] != 0);
             const int count = split_polygon(net, id, along, t);
             for (int j = 0; j < count; ++j) {
                 glm::vec3 p[3];
@@ -483,83 +488,167 @@ glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3
     return push / shape;
 }
 
+// The net's cells and the step's buffers (see the header), and where the last step left the
+// nodes: `along_ac` holds their splits while `ended_at` names that buffer.
+struct MeshGuardScratch::Impl {
+    // Cells: runs of nodes with the same cell (cell_starts: the first node of each), plus the
+    // border copies of their nodes (appended at the end of the net, sorted by cell). A link node
+    // needs no place: its polygons all hold a node of its cell.
+    const SurfaceNet* net = nullptr;
+    std::size_t net_nodes = 0, net_polygons = 0; // the net's size when it was taken
+    std::vector<std::uint32_t> cell_starts;
+    std::vector<std::pair<glm::ivec3, std::uint32_t>> copies;
+    std::vector<std::uint32_t> cell_of; // node -> cell (index of cell_starts), made when needed
+    std::vector<glm::vec3> new_world;
+    std::vector<std::uint8_t> changed, refused, shortened, along_ac, old_along_ac;
+    std::vector<std::uint8_t> is_dirty; // a flag a cell, all clear between rounds
+    std::vector<std::uint32_t> changed_ids, dirty_cells, moved;
+    const glm::vec3* ended_at = nullptr;
+    std::size_t ended_size = 0;
+    TriangulationRule rule{};
+    glm::vec3 spacing{0.0f};
+
+    static constexpr std::uint32_t kNoCell = UINT32_MAX;
+
+    void use_net(const SurfaceNet& n);
+    void cell_nodes(std::size_t c, std::vector<std::uint32_t>& out) const;
+    void make_cell_of();
+};
+
+MeshGuardScratch::MeshGuardScratch() : impl_(std::make_unique<Impl>()) {}
+MeshGuardScratch::~MeshGuardScratch() = default;
+MeshGuardScratch::MeshGuardScratch(MeshGuardScratch&&) noexcept = default;
+MeshGuardScratch& MeshGuardScratch::operator=(MeshGuardScratch&&) noexcept = default;
+
+std::span<const std::uint8_t>
+MeshGuardScratch::splits_at(std::span<const glm::vec3> positions) const {
+    if (!impl_ || impl_->ended_at == nullptr || positions.data() != impl_->ended_at ||
+        positions.size() != impl_->ended_size)
+        return {};
+    return impl_->along_ac;
+}
+
+namespace {
+
+bool cell_less(glm::ivec3 a, glm::ivec3 b) {
+    return a.z != b.z ? a.z < b.z : a.y != b.y ? a.y < b.y : a.x < b.x;
+}
+
+} // namespace
+
+void MeshGuardScratch::Impl::use_net(const SurfaceNet& n) {
+    const std::size_t polygons = n.quads.size() + n.triangles.size();
+    if (net == &n && net_nodes == n.node_count() && net_polygons == polygons) return;
+    net = &n;
+    net_nodes = n.node_count();
+    net_polygons = polygons;
+    ended_at = nullptr;
+    cell_of.clear();
+    const std::size_t nodes = n.node_count();
+    cell_starts.clear();
+    detail::assign_on_huge_pages(cell_starts,
+                                 std::size_t(std::count(n.pieces.begin(), n.pieces.end(), 0)));
+    copies.clear();
+    for (std::uint32_t i = 0, c = 0; i < nodes; ++i) {
+        if (n.pieces[i] == 0) cell_starts[c++] = i;
+        if (n.pieces[i] == kBorderCopyPiece) copies.push_back({n.cells[i], i});
+    }
+    std::sort(copies.begin(), copies.end(), [&](const auto& a, const auto& b) {
+        return cell_less(a.first, b.first) || (a.first == b.first && a.second < b.second);
+    });
+}
+
+void MeshGuardScratch::Impl::cell_nodes(std::size_t c, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    const std::size_t nodes = net->node_count();
+    const std::uint32_t first = cell_starts[c];
+    out.push_back(first);
+    for (std::uint32_t n = first + 1;
+         n < nodes && net->pieces[n] != 0 && net->pieces[n] < kBorderCopyPiece; ++n)
+        out.push_back(n);
+    const glm::ivec3 cell = net->cells[first];
+    auto it = std::lower_bound(copies.begin(), copies.end(), cell,
+                               [&](const auto& e, glm::ivec3 v) { return cell_less(e.first, v); });
+    for (; it != copies.end() && it->first == cell; ++it) out.push_back(it->second);
+}
+
+// Once per net: the later rounds of every step look up the cells of a few nodes.
+void MeshGuardScratch::Impl::make_cell_of() {
+    if (!cell_of.empty()) return;
+    detail::assign_on_huge_pages(cell_of, net->node_count(), kNoCell);
+    std::vector<std::uint32_t> members;
+    for (std::size_t c = 0; c < cell_starts.size(); ++c) {
+        cell_nodes(c, members);
+        for (std::uint32_t n : members) cell_of[n] = std::uint32_t(c);
+    }
+}
+
 std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing,
                             const IndexToWorld& to_world, std::span<const glm::vec3> old_positions,
-                            std::span<glm::vec3> new_positions) {
+                            std::span<glm::vec3> new_positions, MeshGuardScratch* scratch) {
     const std::size_t nodes = net.node_count();
     if (net.star_offsets.size() != nodes + 1) return 0; // a net without polygons
-    // The step's node-sized buffers on huge pages: fresh each step, their page faults were about
-    // half of those of a whole `compare`.
-    std::vector<glm::vec3> new_world;
-    detail::resize_on_huge_pages(new_world, nodes);
+    MeshGuardScratch own;
+    MeshGuardScratch::Impl& s = *(scratch != nullptr ? scratch : &own)->impl_;
+    s.use_net(net);
+    // The splits the last step left, when this step starts where it ended (with the same rule).
+    const bool carried = s.ended_at == old_positions.data() &&
+                         s.ended_size == old_positions.size() && s.rule == rule &&
+                         s.spacing == spacing && s.along_ac.size() == net.quads.size();
+    s.ended_at = nullptr;
+    s.rule = rule;
+    s.spacing = spacing;
+    if (s.new_world.size() != nodes) {
+        s.new_world.clear();
+        detail::assign_on_huge_pages(s.new_world, nodes);
+    }
+    std::vector<glm::vec3>& new_world = s.new_world;
     for_each_chunk(nodes, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) new_world[i] = to_world(new_positions[i]);
     });
     const Points old_p{old_positions, {}, &to_world}, new_p{new_positions, new_world};
-    // Cells: runs of nodes with the same cell, plus the border copies of their nodes (appended
-    // at the end of the net). A link node needs no place: its polygons all hold a node of its
-    // cell.
-    std::vector<std::uint32_t> cell_starts;
-    detail::resize_on_huge_pages(cell_starts,
-                                 std::size_t(std::count(net.pieces.begin(), net.pieces.end(), 0)));
-    std::vector<std::pair<glm::ivec3, std::uint32_t>> copies;
-    for (std::uint32_t i = 0, c = 0; i < nodes; ++i) {
-        if (net.pieces[i] == 0) cell_starts[c++] = i;
-        if (net.pieces[i] == kBorderCopyPiece) copies.push_back({net.cells[i], i});
-    }
-    const auto cell_less = [](glm::ivec3 a, glm::ivec3 b) {
-        return a.z != b.z ? a.z < b.z : a.y != b.y ? a.y < b.y : a.x < b.x;
-    };
-    std::sort(copies.begin(), copies.end(), [&](const auto& a, const auto& b) {
-        return cell_less(a.first, b.first) || (a.first == b.first && a.second < b.second);
-    });
-    const auto cell_nodes = [&](std::size_t c, std::vector<std::uint32_t>& out) {
-        out.clear();
-        const std::uint32_t first = cell_starts[c];
-        out.push_back(first);
-        for (std::uint32_t n = first + 1;
-             n < nodes && net.pieces[n] != 0 && net.pieces[n] < kBorderCopyPiece; ++n)
-            out.push_back(n);
-        const glm::ivec3 cell = net.cells[first];
-        auto it =
-            std::lower_bound(copies.begin(), copies.end(), cell,
-                             [&](const auto& e, glm::ivec3 v) { return cell_less(e.first, v); });
-        for (; it != copies.end() && it->first == cell; ++it) out.push_back(it->second);
-    };
 
     // The first round checks every polygon and cell. A later one only what the refused moves
     // changed: the polygons around the nodes moved back (`changed`, also as flags for
     // check_cell's pairs) and the cells of those polygons' nodes (`dirty_cells`); on real scans a
     // step takes several rounds, each with a few nodes.
     const std::size_t polygon_count = net.quads.size() + net.triangles.size();
-    std::vector<std::uint8_t> changed;
-    detail::resize_on_huge_pages(changed, polygon_count, std::uint8_t(1));
-    std::vector<std::uint32_t> changed_ids, dirty_cells, moved;
-    std::vector<std::uint32_t> cell_of; // node -> cell (index of cell_starts), from round 2 on
-    std::vector<std::uint8_t> is_dirty; // a flag a cell, all clear between rounds
-    constexpr std::uint32_t kNoCell = UINT32_MAX;
-    std::vector<std::uint8_t> refused, shortened, along_ac;
-    detail::resize_on_huge_pages(refused, nodes);
-    detail::resize_on_huge_pages(shortened, nodes);
-    detail::resize_on_huge_pages(along_ac, net.quads.size());
+    std::vector<std::uint8_t>& changed = s.changed;
+    detail::assign_on_huge_pages(changed, polygon_count, std::uint8_t(1));
+    std::vector<std::uint32_t>& changed_ids = s.changed_ids;
+    std::vector<std::uint32_t>& dirty_cells = s.dirty_cells;
+    std::vector<std::uint32_t>& moved = s.moved;
+    changed_ids.clear();
+    dirty_cells.clear();
+    std::vector<std::uint8_t>& refused = s.refused;
+    std::vector<std::uint8_t>& shortened = s.shortened;
+    std::vector<std::uint8_t>& along_ac = s.along_ac;
+    std::vector<std::uint8_t>& old_along_ac = s.old_along_ac;
+    detail::assign_on_huge_pages(refused, nodes, std::uint8_t(0));
+    detail::assign_on_huge_pages(shortened, nodes, std::uint8_t(0));
     // How each quad splits at the old positions: the mesh the step starts from.
-    std::vector<std::uint8_t> old_along_ac;
-    detail::resize_on_huge_pages(old_along_ac, net.quads.size());
-    for_each_chunk(net.quads.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t id = b; id < e; ++id)
-            old_along_ac[id] =
-                splits_along_ac(net, std::uint32_t(id), old_positions, rule, spacing) ? 1 : 0;
-    });
+    if (carried) {
+        std::swap(along_ac, old_along_ac);
+    } else {
+        detail::assign_on_huge_pages(old_along_ac, net.quads.size(), std::uint8_t(0));
+        for_each_chunk(net.quads.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+            for (std::size_t id = b; id < e; ++id)
+                old_along_ac[id] =
+                    splits_along_ac(net, std::uint32_t(id), old_positions, rule, spacing) ? 1 : 0;
+        });
+    }
+    detail::assign_on_huge_pages(along_ac, net.quads.size(), std::uint8_t(0));
     constexpr int kHalvings = 2, kMaxRounds = 64;
+    bool settled = false; // the last round moved nothing: along_ac is the final positions' split
     for (int round = 0; round < kMaxRounds; ++round) {
         check_quality(net, rule, spacing, old_p, new_p, changed_ids, along_ac, refused);
         constexpr std::size_t kChunk = 1024;
-        const std::size_t cells = round == 0 ? cell_starts.size() : dirty_cells.size();
+        const std::size_t cells = round == 0 ? s.cell_starts.size() : dirty_cells.size();
         for_each_chunk(cells, kChunk, [&](std::size_t, std::size_t b, std::size_t e) {
             std::vector<std::uint32_t> polygons, members, owner;
             std::vector<TriangleData> triangles;
             for (std::size_t i = b; i < e; ++i) {
-                cell_nodes(round == 0 ? i : dirty_cells[i], members);
+                s.cell_nodes(round == 0 ? i : dirty_cells[i], members);
                 // A cell of one node checks the pairs of that node's star only.
                 if (members.size() == 1 && star_is_embedded(net, members[0], along_ac, new_p.world))
                     continue;
@@ -580,7 +669,10 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                                    : old_positions[n];
             new_world[n] = to_world(new_positions[n]);
         }
-        if (moved.empty()) break;
+        if (moved.empty()) {
+            settled = true;
+            break;
+        }
         if (round == 0)
             std::fill(changed.begin(), changed.end(), 0);
         else
@@ -592,32 +684,35 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
                     changed[id] = 1;
                     changed_ids.push_back(id);
                 }
-        if (changed_ids.empty()) break;
-        if (cell_of.empty()) {
-            detail::resize_on_huge_pages(cell_of, nodes, kNoCell);
-            std::vector<std::uint32_t> members;
-            for (std::size_t c = 0; c < cell_starts.size(); ++c) {
-                cell_nodes(c, members);
-                for (std::uint32_t n : members) cell_of[n] = std::uint32_t(c);
-            }
+        if (changed_ids.empty()) {
+            settled = true; // the nodes moved back hold no polygon
+            break;
         }
+        s.make_cell_of();
         // Each cell once (a flag a cell), then in cell order: a sort of the few distinct cells,
         // where sorting every corner's cell with its repeats took a tenth of a later round.
-        if (is_dirty.empty()) is_dirty.assign(cell_starts.size(), 0);
+        if (s.is_dirty.size() != s.cell_starts.size()) s.is_dirty.assign(s.cell_starts.size(), 0);
         dirty_cells.clear();
         for (std::uint32_t id : changed_ids) {
             std::array<std::uint32_t, 4> corners{};
             const int count = polygon_corners(net, id, corners);
             for (int k = 0; k < count; ++k)
-                if (const std::uint32_t c = cell_of[corners[std::size_t(k)]];
-                    c != kNoCell && !is_dirty[c]) {
-                    is_dirty[c] = 1;
+                if (const std::uint32_t c = s.cell_of[corners[std::size_t(k)]];
+                    c != MeshGuardScratch::Impl::kNoCell && !s.is_dirty[c]) {
+                    s.is_dirty[c] = 1;
                     dirty_cells.push_back(c);
                 }
         }
-        for (const std::uint32_t c : dirty_cells) is_dirty[c] = 0;
+        for (const std::uint32_t c : dirty_cells) s.is_dirty[c] = 0;
         std::sort(dirty_cells.begin(), dirty_cells.end());
     }
+    // Out of rounds: the last moves' polygons were not split again.
+    if (!settled)
+        for (const std::uint32_t id : changed_ids)
+            if (id < net.quads.size())
+                along_ac[id] = splits_along_ac(net, id, new_positions, rule, spacing) ? 1 : 0;
+    s.ended_at = new_positions.data();
+    s.ended_size = new_positions.size();
     return std::size_t(std::count(shortened.begin(), shortened.end(), 1));
 }
 

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -29,14 +30,42 @@
 
 namespace snert {
 
+// What keep_mesh_valid keeps from one step of a relaxation to the next: the net's cells (its
+// topology alone, the same every step), the step's node- and polygon-sized buffers (fresh ones
+// cost a page fault a page, about a tenth of a step on a clinical CT), and how each quad splits
+// where the step left the nodes, which is how it splits where the next one starts. One scratch
+// serves one net and one rule and spacing; relax() keeps one for its run.
+class MeshGuardScratch {
+  public:
+    MeshGuardScratch();
+    ~MeshGuardScratch();
+    MeshGuardScratch(MeshGuardScratch&&) noexcept;
+    MeshGuardScratch& operator=(MeshGuardScratch&&) noexcept;
+
+    // How each quad splits (1: along a-c) at `positions`, when they are the very buffer the last
+    // keep_mesh_valid with this scratch left its result in (no other code has written it since):
+    // quad_splits_along_ac's values (triangulation.h), kept. Empty otherwise.
+    std::span<const std::uint8_t> splits_at(std::span<const glm::vec3> positions) const;
+
+    struct Impl;
+
+  private:
+    friend std::size_t keep_mesh_valid(const SurfaceNet&, TriangulationRule, glm::vec3,
+                                       const IndexToWorld&, std::span<const glm::vec3>,
+                                       std::span<glm::vec3>, MeshGuardScratch*);
+    std::unique_ptr<Impl> impl_;
+};
+
 // Shortens the moves from `old_positions` to `new_positions` (index space) where they would make
 // the net's mesh self-intersect or create a sliver. Quads split as triangulate() splits them with
 // `spacing`; the checks run on the world points `to_world` gives, which are the very floats a
 // mesh file holds (rounding there could otherwise make two triangles meet that did not in index
-// space). Returns the number of nodes whose move was shortened.
+// space). Returns the number of nodes whose move was shortened. `scratch` (optional) is what the
+// steps of one relaxation share; the result is the same with or without it.
 std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spacing,
                             const IndexToWorld& to_world, std::span<const glm::vec3> old_positions,
-                            std::span<glm::vec3> new_positions);
+                            std::span<glm::vec3> new_positions,
+                            MeshGuardScratch* scratch = nullptr);
 
 // A push (index space) that lifts `node` off the opposite side of every cap sliver (q < 0.1)
 // whose obtuse corner it is, towards a height of half that side (world shape: index offsets
@@ -45,8 +74,11 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
 // otherwise stay: the guard keeps them from getting worse, not from staying.
 // 1 for the nodes at the obtuse corner of a sliver (the only ones sliver_relief moves), so a
 // relaxation step can skip the others: one pass over the polygons instead of one per node.
+// `splits`, when not empty, is how each quad splits at `positions` (MeshGuardScratch::splits_at),
+// so it is not worked out again.
 std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule rule,
-                                        glm::vec3 shape, std::span<const glm::vec3> positions);
+                                        glm::vec3 shape, std::span<const glm::vec3> positions,
+                                        std::span<const std::uint8_t> splits = {});
 
 glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3 shape,
                         std::span<const glm::vec3> positions, std::uint32_t node);

@@ -157,10 +157,11 @@ std::vector<SubStep> sub_steps(const RelaxOptions& options, const GreyField* gre
 
 std::vector<std::uint8_t> sliver_flags(const SurfaceNet& net, const GreyField* grey,
                                        const RelaxOptions& options, SubStep sub_step,
-                                       std::span<const glm::vec3> positions) {
+                                       std::span<const glm::vec3> positions,
+                                       std::span<const std::uint8_t> splits) {
     const glm::vec3 spacing = grey != nullptr ? grey->volume->spacing : glm::vec3(1.0f);
     return options.keep_valid && sub_step.smoothing
-               ? sliver_apexes(net, options.triangulation, spacing, positions)
+               ? sliver_apexes(net, options.triangulation, spacing, positions, splits)
                : std::vector<std::uint8_t>(positions.size(), 0);
 }
 
@@ -171,12 +172,12 @@ float step_scale(const RelaxOptions& options, int iteration) {
 
 float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                      SubStep sub_step, std::span<const glm::vec3> old_positions,
-                     std::span<glm::vec3> new_positions) {
+                     std::span<glm::vec3> new_positions, std::span<const std::uint8_t> splits) {
     // Jacobi: every node reads only old positions, so chunks of nodes run independently.
     constexpr std::size_t kChunk = 4096;
     const float margin = cell_margin(grey);
     const std::vector<std::uint8_t> at_sliver =
-        sliver_flags(net, grey, options, sub_step, old_positions);
+        sliver_flags(net, grey, options, sub_step, old_positions, splits);
     std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
     for_each_chunk(
         old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
@@ -241,13 +242,18 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi
 
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                  int iteration, std::span<const glm::vec3> old_positions,
-                 std::span<glm::vec3> new_positions, std::size_t* shortened) {
+                 std::span<glm::vec3> new_positions, std::size_t* shortened,
+                 MeshGuardScratch* scratch) {
     const std::vector<SubStep> steps = sub_steps(options, grey);
+    // The quads' splits where the last step left the nodes, which are these old positions.
+    const std::span<const std::uint8_t> splits = scratch != nullptr && options.keep_valid
+                                                     ? scratch->splits_at(old_positions)
+                                                     : std::span<const std::uint8_t>();
     if (steps.size() == 1) {
-        relax_sub_step(net, grey, options, steps[0], old_positions, new_positions);
+        relax_sub_step(net, grey, options, steps[0], old_positions, new_positions, splits);
     } else {
         std::vector<glm::vec3> middle(old_positions.size());
-        relax_sub_step(net, grey, options, steps[0], old_positions, middle);
+        relax_sub_step(net, grey, options, steps[0], old_positions, middle, splits);
         relax_sub_step(net, grey, options, steps[1], middle, new_positions);
     }
     // Safeguards: the damping schedule (a point of the cell's box stays in the box when its
@@ -262,7 +268,7 @@ float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOption
         grey != nullptr ? index_to_world_map(*grey->volume) : IndexToWorld{};
     const std::size_t refused = options.keep_valid
                                     ? keep_mesh_valid(net, options.triangulation, spacing, to_world,
-                                                      old_positions, new_positions)
+                                                      old_positions, new_positions, scratch)
                                     : 0;
     if (shortened != nullptr) *shortened = refused;
     float max_move = 0.0f;
@@ -285,13 +291,14 @@ RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptio
         result.positions.assign(start.positions.begin(), start.positions.end());
     }
     std::vector<glm::vec3> next(result.positions.size());
+    MeshGuardScratch scratch; // shared by the steps: each starts where the last one ended
     const int done = start.iteration;
     const int count = options.max_iterations - done;
     for (int it = done + 1; it <= options.max_iterations; ++it) {
         progress.update(float(it - 1 - done) / float(count));
         std::size_t shortened = 0;
         const float max_move =
-            relax_step(net, grey, options, it, result.positions, next, &shortened);
+            relax_step(net, grey, options, it, result.positions, next, &shortened, &scratch);
         result.shortened_moves += shortened;
         result.positions.swap(next);
         result.max_moves.push_back(max_move);

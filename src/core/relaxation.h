@@ -27,6 +27,8 @@
 
 namespace snert {
 
+class MeshGuardScratch; // mesh_guard.h
+
 enum class RelaxMode { Averaging, Gradient, Snert };
 enum class Schedule { Simultaneous, SmoothingFirst };
 enum class Constraint { RayBox, Clip };
@@ -105,10 +107,11 @@ MoveTerms node_move_terms(const SurfaceNet& net, const GreyField* grey, const Re
                           std::span<const glm::vec3> positions, std::uint32_t node,
                           SubStep sub_step, bool at_sliver);
 // Per node, whether the sub-step lifts it as a sliver's apex (only with keep_valid, when the
-// sub-step smooths).
+// sub-step smooths). `splits`: how each quad splits at `positions`, when known (sliver_apexes).
 std::vector<std::uint8_t> sliver_flags(const SurfaceNet& net, const GreyField* grey,
                                        const RelaxOptions& options, SubStep sub_step,
-                                       std::span<const glm::vec3> positions);
+                                       std::span<const glm::vec3> positions,
+                                       std::span<const std::uint8_t> splits = {});
 // The box the constraint keeps a node in: its region (node_box) less a small margin.
 NodeBox relax_box(const SurfaceNet& net, const GreyField* grey, std::size_t node);
 // The damping factor of iteration `iteration`'s moves (1 before options.damping_start).
@@ -116,19 +119,22 @@ float step_scale(const RelaxOptions& options, int iteration);
 
 // One sub-step for every node (Jacobi: from `old_positions` only): the moves of
 // node_move_terms, constrained to relax_box, into `new_positions`; returns the largest move.
-// No damping and no mesh check (relax_step adds them).
+// No damping and no mesh check (relax_step adds them). `splits` as sliver_flags'.
 float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                      SubStep sub_step, std::span<const glm::vec3> old_positions,
-                     std::span<glm::vec3> new_positions);
+                     std::span<glm::vec3> new_positions, std::span<const std::uint8_t> splits = {});
 
 // Iteration `iteration` (1 for the first): computes every node's new position from
 // `old_positions` into `new_positions` (same size) and returns the largest move length
 // (voxels). The result depends only on its arguments (the app recomputes iterations from
 // keyframes). Moves are damped after options.damping_start and shortened where the mesh would
-// stop being valid (mesh_guard.h); `shortened`, when given, receives how many were.
+// stop being valid (mesh_guard.h); `shortened`, when given, receives how many were. `scratch`
+// (optional) is what the steps of one run over `net` share (MeshGuardScratch): the same result,
+// sooner.
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                  int iteration, std::span<const glm::vec3> old_positions,
-                 std::span<glm::vec3> new_positions, std::size_t* shortened = nullptr);
+                 std::span<glm::vec3> new_positions, std::size_t* shortened = nullptr,
+                 MeshGuardScratch* scratch = nullptr);
 
 struct RelaxIteration {
     int iteration = 0;  // 1 for the first iteration

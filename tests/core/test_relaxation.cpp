@@ -332,6 +332,76 @@ TEST(Relaxation, EveryIterationKeepsTheMeshFreeOfIntersectionsAndNewSlivers) {
     EXPECT_GT(checked, 20);
 }
 
+// relax() carries the mesh guard's splits from one step into the next (MeshGuardScratch): the
+// same positions, bit for bit, as steps that work every split out afresh, on fields where the
+// guard shortens moves.
+TEST(Relaxation, CarriedGuardSplitsGiveTheSameSteps) {
+    std::mt19937 rng(9);
+    std::size_t shortened_total = 0;
+    int compared = 0;
+    for (int trial = 0; trial < 6; ++trial) {
+        const glm::vec3 spacing = trial % 2 == 1 ? glm::vec3(1.0f, 1.0f, 3.0f) : glm::vec3(1.0f);
+        const Volume v = blob_field(rng, {18, 16, 14}, spacing);
+        const SurfaceNet net = build_surface_net(segment_threshold(v, 0.5f));
+        if (net.quads.empty()) continue;
+        for (TriangulationRule rule :
+             {TriangulationRule::ShorterDiagonal, TriangulationRule::Delaunay}) {
+            RelaxOptions o;
+            o.iso = 0.5f;
+            o.triangulation = rule;
+            o.max_iterations = 12;
+            o.epsilon = 0.0f;
+            const GreyField grey = make_grey_field(v, o);
+            const RelaxResult run = relax(net, &grey, o);
+            std::vector<glm::vec3> p = net.positions, next(p.size());
+            for (int it = 1; it <= o.max_iterations; ++it) {
+                std::size_t shortened = 0;
+                relax_step(net, &grey, o, it, p, next, &shortened);
+                shortened_total += shortened;
+                p.swap(next);
+            }
+            ASSERT_EQ(run.positions.size(), p.size());
+            EXPECT_EQ(std::memcmp(run.positions.data(), p.data(), p.size() * sizeof(glm::vec3)), 0)
+                << "trial " << trial;
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 8);
+    EXPECT_GT(shortened_total, 0u); // the guard's later rounds ran
+}
+
+// A scratch gives the splits of the very buffer its last step wrote, and of no other.
+TEST(MeshGuard, ScratchKnowsTheSplitsOfTheBufferItLeftOnly) {
+    std::mt19937 rng(4);
+    const glm::vec3 spacing(1.0f, 1.0f, 2.0f);
+    const Volume v = blob_field(rng, {16, 16, 12}, spacing);
+    const SurfaceNet net = build_surface_net(segment_threshold(v, 0.5f));
+    ASSERT_FALSE(net.quads.empty());
+    RelaxOptions o;
+    o.iso = 0.5f;
+    o.triangulation = TriangulationRule::Delaunay;
+    const GreyField grey = make_grey_field(v, o);
+    MeshGuardScratch scratch;
+    std::vector<glm::vec3> p = net.positions, next(p.size());
+    EXPECT_TRUE(scratch.splits_at(p).empty()); // no step yet
+    relax_step(net, &grey, o, 1, p, next, nullptr, &scratch);
+    const std::span<const std::uint8_t> splits = scratch.splits_at(next);
+    ASSERT_EQ(splits.size(), net.quads.size());
+    std::size_t along = 0;
+    for (std::size_t q = 0; q < net.quads.size(); ++q) {
+        const auto& c = net.quads[q];
+        const bool expected = quad_splits_along_ac(next[c[0]], next[c[1]], next[c[2]], next[c[3]],
+                                                   o.triangulation, spacing);
+        EXPECT_EQ(splits[q] != 0, expected) << "quad " << q;
+        along += expected ? 1 : 0;
+    }
+    EXPECT_GT(along, 0u);
+    EXPECT_LT(along, net.quads.size());
+    const std::vector<glm::vec3> copy = next;
+    EXPECT_TRUE(scratch.splits_at(copy).empty());
+    EXPECT_TRUE(scratch.splits_at(p).empty());
+}
+
 TEST(Relaxation, DampingBringsEveryNodeToRest) {
     // Noise with no consistent iso-surface makes nodes bounce between cell faces; after
     // damping_start the step halves every damping_halving iterations, so the run settles.
