@@ -9,7 +9,7 @@
 #pragma once
 
 #include <cstddef>
-#include <cstdint>
+#include <memory>
 #include <vector>
 
 #if defined(__linux__)
@@ -23,11 +23,12 @@ template <class T>
 void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
     v.reserve(n);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    constexpr std::uintptr_t kHuge = std::uintptr_t(1) << 21;
-    const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
-    const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-    const std::uintptr_t last = (begin + n * sizeof(T)) & ~(kHuge - 1);
-    if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    // The whole 2 MiB pages within the storage (std::align: no integer-to-pointer cast).
+    constexpr std::size_t kHuge = std::size_t(1) << 21;
+    void* first = static_cast<void*>(v.data());
+    std::size_t space = n * sizeof(T);
+    if (std::align(kHuge, kHuge, first, space) != nullptr)
+        madvise(first, space & ~(kHuge - 1), MADV_HUGEPAGE);
 #endif
     v.resize(n, value);
 }

@@ -274,6 +274,7 @@ Volume blob_field(std::mt19937& rng, glm::ivec3 dims, glm::vec3 spacing) {
     v.spacing = spacing;
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     std::vector<glm::vec4> blobs;
+    blobs.reserve(12);
     for (int k = 0; k < 12; ++k)
         blobs.push_back({unit(rng) * float(dims.x), unit(rng) * float(dims.y),
                          unit(rng) * float(dims.z), 0.8f + 2.0f * unit(rng)});
