@@ -545,7 +545,6 @@ void MeshGuardScratch::Impl::use_net(const SurfaceNet& n) {
     ended_at = nullptr;
     cell_of.clear();
     const std::size_t nodes = n.node_count();
-    cell_starts.clear();
     detail::assign_on_huge_pages(cell_starts,
                                  std::size_t(std::count(n.pieces.begin(), n.pieces.end(), 0)));
     copies.clear();
@@ -598,10 +597,8 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
     s.ended_at = nullptr;
     s.rule = rule;
     s.spacing = spacing;
-    if (s.new_world.size() != nodes) {
-        s.new_world.clear();
-        detail::assign_on_huge_pages(s.new_world, nodes);
-    }
+    // Every entry is written below: sized only when the net's size changed, not zeroed each step.
+    if (s.new_world.size() != nodes) detail::assign_on_huge_pages(s.new_world, nodes);
     std::vector<glm::vec3>& new_world = s.new_world;
     for_each_chunk(nodes, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) new_world[i] = to_world(new_positions[i]);

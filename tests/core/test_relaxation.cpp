@@ -293,6 +293,17 @@ Volume blob_field(std::mt19937& rng, glm::ivec3 dims, glm::vec3 spacing) {
     return v;
 }
 
+// A blob field on an 18 x 16 x 14 grid and its net at 0.5.
+struct BlobNet {
+    Volume volume;
+    SurfaceNet net;
+};
+BlobNet blob_net(std::mt19937& rng, glm::vec3 spacing) {
+    BlobNet b{blob_field(rng, {18, 16, 14}, spacing), {}};
+    b.net = build_surface_net(segment_threshold(b.volume, 0.5f));
+    return b;
+}
+
 } // namespace
 
 TEST(Relaxation, EveryIterationKeepsTheMeshFreeOfIntersectionsAndNewSlivers) {
@@ -300,8 +311,9 @@ TEST(Relaxation, EveryIterationKeepsTheMeshFreeOfIntersectionsAndNewSlivers) {
     int checked = 0;
     for (int trial = 0; trial < 12; ++trial) {
         const glm::vec3 spacing = trial % 3 == 2 ? glm::vec3(1.0f, 1.0f, 3.0f) : glm::vec3(1.0f);
-        const Volume v = blob_field(rng, {18, 16, 14}, spacing);
-        const SurfaceNet net = build_surface_net(segment_threshold(v, 0.5f));
+        const BlobNet blob = blob_net(rng, spacing);
+        const Volume& v = blob.volume;
+        const SurfaceNet& net = blob.net;
         if (net.quads.empty()) continue;
         for (Constraint constraint : {Constraint::RayBox, Constraint::Clip})
             for (TriangulationRule rule :
@@ -342,8 +354,9 @@ TEST(Relaxation, CarriedGuardSplitsGiveTheSameSteps) {
     int compared = 0;
     for (int trial = 0; trial < 6; ++trial) {
         const glm::vec3 spacing = trial % 2 == 1 ? glm::vec3(1.0f, 1.0f, 3.0f) : glm::vec3(1.0f);
-        const Volume v = blob_field(rng, {18, 16, 14}, spacing);
-        const SurfaceNet net = build_surface_net(segment_threshold(v, 0.5f));
+        const BlobNet blob = blob_net(rng, spacing);
+        const Volume& v = blob.volume;
+        const SurfaceNet& net = blob.net;
         if (net.quads.empty()) continue;
         for (TriangulationRule rule :
              {TriangulationRule::ShorterDiagonal, TriangulationRule::Delaunay}) {
@@ -484,8 +497,9 @@ TEST(MeshGuard, NoTwoTrianglesFoldOntoEachOther) {
     std::size_t unguarded = 0, guarded = 0, initial = 0;
     for (int trial = 0; trial < 12; ++trial) {
         const glm::vec3 spacing = trial % 3 == 2 ? glm::vec3(1.0f, 1.0f, 3.0f) : glm::vec3(1.0f);
-        const Volume v = blob_field(rng, {18, 16, 14}, spacing);
-        const SurfaceNet net = build_surface_net(segment_threshold(v, 0.5f));
+        const BlobNet blob = blob_net(rng, spacing);
+        const Volume& v = blob.volume;
+        const SurfaceNet& net = blob.net;
         if (net.quads.empty()) continue;
         RelaxOptions o;
         o.iso = 0.5f;
