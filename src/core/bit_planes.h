@@ -19,6 +19,8 @@
 
 #include <glm/glm.hpp>
 
+#include "huge_pages.h"
+
 namespace snert::detail {
 
 using Word = std::uint64_t;
@@ -87,8 +89,7 @@ class BitVolume {
     // Words are left uninitialised: every row must be set (set_row) before it is read.
     explicit BitVolume(glm::ivec3 dims)
         : dims_(dims), words_per_row_((dims.x + kWordBits - 1) / kWordBits),
-          words_(std::make_unique_for_overwrite<Word[]>(
-              std::size_t(words_per_row_) * std::size_t(dims.y) * std::size_t(dims.z))) {}
+          words_(std::size_t(words_per_row_) * std::size_t(dims.y) * std::size_t(dims.z)) {}
 
     glm::ivec3 dims() const { return dims_; }
     int words_per_row() const { return words_per_row_; }
@@ -146,7 +147,7 @@ class BitVolume {
     }
     glm::ivec3 dims_{0};
     int words_per_row_ = 0;
-    std::unique_ptr<Word[]> words_;
+    ScratchArray<Word> words_;
 };
 
 // Sets row (y, z) of `bits` from the grey samples `v` of that row against `iso`: inside where

@@ -9,11 +9,24 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#endif
+
+// Under AddressSanitizer the scratch arrays come from operator new[], where it can see overruns.
+#if defined(__SANITIZE_ADDRESS__)
+#define SNERT_SCRATCH_FROM_HEAP 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SNERT_SCRATCH_FROM_HEAP 1
+#endif
 #endif
 
 namespace snert::detail {
@@ -44,5 +57,86 @@ void assign_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()
     std::vector<T>().swap(v);
     resize_on_huge_pages(v, n, value);
 }
+
+// A scratch array of n trivial values, left uninitialised, on a mapping of its own that starts on
+// a 2 MiB boundary, so that every whole 2 MiB of it can be a huge page. A heap block starts
+// anywhere in a page, and the part of it before its first 2 MiB boundary faults 4 KiB at a time;
+// for the classification's bits and the planes of ids, rebuilt on every run, those faults were
+// most of the difference between a first run and a repeated one. The mapping ends at the last
+// 4 KiB page in use, so the array never takes more memory than a heap block would.
+template <class T> class ScratchArray {
+    static_assert(std::is_trivial_v<T>, "a scratch array is never constructed element-wise");
+
+  public:
+    ScratchArray() = default;
+    explicit ScratchArray(std::size_t n) {
+        if (n == 0) return;
+        if (n > (SIZE_MAX - 2 * kHuge) / sizeof(T)) throw std::bad_alloc();
+        bytes_ = (n * sizeof(T) + kPage - 1) & ~(kPage - 1);
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(SNERT_SCRATCH_FROM_HEAP)
+        if (bytes_ >= kHuge) {
+            // Over-map by 2 MiB, then give back what lies before the boundary and after the end.
+            void* block = mmap(nullptr, bytes_ + kHuge, PROT_READ | PROT_WRITE,
+                               MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+            if (block == MAP_FAILED) throw std::bad_alloc();
+            auto* first = static_cast<unsigned char*>(block);
+            void* aligned = block;
+            std::size_t space = bytes_ + kHuge;
+            std::align(kHuge, bytes_, aligned, space);
+            auto* start = static_cast<unsigned char*>(aligned);
+            if (start > first) munmap(first, std::size_t(start - first));
+            const std::size_t after = std::size_t(first + bytes_ + kHuge - (start + bytes_));
+            if (after > 0) munmap(start + bytes_, after);
+            madvise(start, bytes_, MADV_HUGEPAGE);
+            data_ = static_cast<T*>(aligned);
+            mapped_ = true;
+            return;
+        }
+#endif
+        data_ = new T[n];
+    }
+    ScratchArray(ScratchArray&& other) noexcept
+        : data_(std::exchange(other.data_, nullptr)), bytes_(std::exchange(other.bytes_, 0)),
+          mapped_(std::exchange(other.mapped_, false)) {}
+    ScratchArray& operator=(ScratchArray&& other) noexcept {
+        if (this != &other) {
+            release();
+            data_ = std::exchange(other.data_, nullptr);
+            bytes_ = std::exchange(other.bytes_, 0);
+            mapped_ = std::exchange(other.mapped_, false);
+        }
+        return *this;
+    }
+    ScratchArray(const ScratchArray&) = delete;
+    ScratchArray& operator=(const ScratchArray&) = delete;
+    ~ScratchArray() {
+        release();
+    }
+
+    T* get() const {
+        return data_;
+    }
+    T& operator[](std::size_t i) const {
+        return data_[i];
+    }
+
+  private:
+    static constexpr std::size_t kPage = std::size_t(1) << 12;
+    static constexpr std::size_t kHuge = std::size_t(1) << 21;
+    void release() noexcept {
+#if defined(__linux__)
+        if (mapped_) {
+            munmap(data_, bytes_);
+            data_ = nullptr;
+            return;
+        }
+#endif
+        delete[] data_;
+        data_ = nullptr;
+    }
+    T* data_ = nullptr;
+    std::size_t bytes_ = 0;
+    bool mapped_ = false;
+};
 
 } // namespace snert::detail

@@ -398,18 +398,15 @@ class Extractor {
     // Vertex ids per sample of a plane, valid only where the edge is crossed (never read
     // elsewhere, so left uninitialised).
     struct PlaneIds {
-        explicit PlaneIds(std::size_t size)
-            : x(std::make_unique_for_overwrite<std::uint32_t[]>(size)),
-              y(std::make_unique_for_overwrite<std::uint32_t[]>(size)) {}
-        std::unique_ptr<std::uint32_t[]> x, y;
+        explicit PlaneIds(std::size_t size) : x(size), y(size) {}
+        detail::ScratchArray<std::uint32_t> x, y;
     };
     // The ids a range of slabs works with: planes z and z + 1, and the z edges between them.
     struct FillIds {
         explicit FillIds(std::size_t plane_size)
-            : lower(plane_size), upper(plane_size),
-              z(std::make_unique_for_overwrite<std::uint32_t[]>(plane_size)) {}
+            : lower(plane_size), upper(plane_size), z(plane_size) {}
         PlaneIds lower, upper;
-        std::unique_ptr<std::uint32_t[]> z;
+        detail::ScratchArray<std::uint32_t> z;
     };
     // The crossed edges at sample row (y, z), one word at a time.
     struct RowEdges {

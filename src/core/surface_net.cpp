@@ -256,12 +256,14 @@ void add_stars(SurfaceNet& net) {
         for (std::size_t t = 0; t < net.triangles.size(); ++t)
             for (std::uint32_t n : net.triangles[t]) visit(n, std::uint32_t(quads + t));
     };
-    net.star_offsets.assign(net.node_count() + 1, 0);
+    detail::assign_on_huge_pages(net.star_offsets, net.node_count() + 1, 0u);
     for_each_corner([&](std::uint32_t n, std::uint32_t) { ++net.star_offsets[n + 1]; });
     for (std::size_t i = 0; i < net.node_count(); ++i)
         net.star_offsets[i + 1] += net.star_offsets[i];
-    net.star.resize(net.star_offsets.back());
-    std::vector<std::uint32_t> cursor(net.star_offsets.begin(), net.star_offsets.end() - 1);
+    detail::assign_on_huge_pages(net.star, net.star_offsets.back(), 0u);
+    std::vector<std::uint32_t> cursor;
+    detail::resize_on_huge_pages(cursor, net.node_count());
+    std::copy(net.star_offsets.begin(), net.star_offsets.end() - 1, cursor.begin());
     for_each_corner(
         [&](std::uint32_t n, std::uint32_t polygon) { net.star[cursor[n]++] = polygon; });
 }
@@ -459,11 +461,8 @@ constexpr std::size_t kSlabsPerChunk = 8;
 // lookup goes through is crossed, so the cell on its other side is a surface cell.
 class CellPlane {
   public:
-    explicit CellPlane(glm::ivec3 cell_dims)
-        : width_(std::size_t(cell_dims.x)), first_(std::make_unique_for_overwrite<std::uint32_t[]>(
-                                                width_ * std::size_t(cell_dims.y))),
-          mask_(std::make_unique_for_overwrite<std::uint8_t[]>(width_ * std::size_t(cell_dims.y))) {
-    }
+    CellPlane(std::size_t width, std::uint32_t* first, std::uint8_t* mask)
+        : width_(width), first_(first), mask_(mask) {}
     void set(int x, int y, std::uint32_t first, unsigned mask) {
         first_[at(x, y)] = first;
         mask_[at(x, y)] = std::uint8_t(mask);
@@ -474,8 +473,28 @@ class CellPlane {
   private:
     std::size_t at(int x, int y) const { return std::size_t(y) * width_ + std::size_t(x); }
     std::size_t width_;
-    std::unique_ptr<std::uint32_t[]> first_;
-    std::unique_ptr<std::uint8_t[]> mask_;
+    std::uint32_t* first_;
+    std::uint8_t* mask_;
+};
+
+// The three cell planes a chunk works with, plane z in slot z % 3. One array per field for all
+// three: 4 MB on a 512^2 slice, enough for huge pages where one plane's 1 MB is not.
+class CellPlanes {
+  public:
+    explicit CellPlanes(glm::ivec3 cell_dims)
+        : size_(std::size_t(cell_dims.x) * std::size_t(cell_dims.y)), first_(3 * size_),
+          mask_(3 * size_), planes_{plane(cell_dims.x, 0), plane(cell_dims.x, 1),
+                                    plane(cell_dims.x, 2)} {}
+    CellPlane& operator[](int z) { return planes_[std::size_t(z % 3)]; }
+
+  private:
+    CellPlane plane(int width, std::size_t slot) const {
+        return {std::size_t(width), first_.get() + slot * size_, mask_.get() + slot * size_};
+    }
+    std::size_t size_;
+    detail::ScratchArray<std::uint32_t> first_;
+    detail::ScratchArray<std::uint8_t> mask_;
+    std::array<CellPlane, 3> planes_;
 };
 
 // Where both segments of the ambiguous +axis face of a cell (case `mask`) join the same two
@@ -600,6 +619,12 @@ class NetBuilder {
     std::size_t row_index(int y, int z) const {
         return std::size_t(z) * std::size_t(cd_.y) + std::size_t(y);
     }
+    // Whether row (y, z) of cells holds a node, once the counts are summed: the fill passes skip
+    // the rows the surface misses without looking at their bits.
+    bool row_has_cells(int y, int z) const {
+        const std::size_t r = row_index(y, z);
+        return row_offsets_[r + 1] != row_offsets_[r];
+    }
 
     // Nodes of each row of cells of slab z (one per piece), and link nodes of the slab.
     void count_nodes(int z) {
@@ -625,6 +650,7 @@ class NetBuilder {
 
     void fill_plane(int z, CellPlane& plane) const {
         for (int y = 0; y < cd_.y; ++y) {
+            if (!row_has_cells(y, z)) continue;
             std::uint32_t id = row_offsets_[row_index(y, z)];
             bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
                 plane.set(x, y, id, mask);
@@ -643,10 +669,8 @@ class NetBuilder {
             row_offsets_[row_index(0, last)] - row_offsets_[row_index(0, first)];
         links.reserve(2 * nodes);
         polygons.quads.reserve(nodes);
-        const auto planes = plane_pool_.take([&] {
-            return std::array<CellPlane, 3>{CellPlane(cd_), CellPlane(cd_), CellPlane(cd_)};
-        });
-        const auto plane = [&](int z) -> CellPlane& { return (*planes)[std::size_t(z % 3)]; };
+        const auto planes = plane_pool_.take([&] { return CellPlanes(cd_); });
+        const auto plane = [&](int z) -> CellPlane& { return (*planes)[z]; };
         std::vector<LinkNode> before, here; // link nodes of slabs z - 1 and z
         std::vector<std::pair<std::uint64_t, std::uint32_t>> split_edges;
         fill_plane(first, plane(first));
@@ -674,6 +698,7 @@ class NetBuilder {
     // edges' midpoints.
     void fill_nodes(int z, SurfaceNet& net) const {
         for (int y = 0; y < cd_.y; ++y) {
+            if (!row_has_cells(y, z)) continue;
             std::uint32_t id = row_offsets_[row_index(y, z)];
             bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
                 const detail::MarchingCubesCase& c = cases_[mask];
@@ -706,6 +731,7 @@ class NetBuilder {
                     std::vector<LinkNode>& link_nodes) const {
         std::uint32_t next_link_node = std::uint32_t(link_node_offsets_[std::size_t(z)]);
         for (int y = 0; y < cd_.y; ++y) {
+            if (!row_has_cells(y, z)) continue;
             std::uint32_t i = row_offsets_[row_index(y, z)];
             bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
                 const glm::ivec3 c(x, y, z);
@@ -766,7 +792,8 @@ class NetBuilder {
                     const std::vector<std::pair<std::uint64_t, std::uint32_t>>& split_edges,
                     Polygons& out) const {
         const std::array<std::array<RingCell, 4>, 3>& rings = quad_rings();
-        for (int y = 0; y < cd_.y; ++y)
+        for (int y = 0; y < cd_.y; ++y) {
+            if (!row_has_cells(y, z)) continue;
             bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
                 const int p[3] = {x, y, z};
                 const bool here = (mask & 1u) != 0;
@@ -787,6 +814,7 @@ class NetBuilder {
                              std::uint64_t(grid_index(dims_, x, y, z)) * 3 + std::uint64_t(axis));
                 }
             });
+        }
     }
 
     // The polygons of all ranges, in range order (copied in parallel).
@@ -796,7 +824,7 @@ class NetBuilder {
             quads[k + 1] = quads[k] + parts[k].quads.size();
             triangles[k + 1] = triangles[k] + parts[k].triangles.size();
         }
-        net.quads.resize(quads.back());
+        detail::resize_on_huge_pages(net.quads, quads.back());
         net.triangles.resize(triangles.back());
         for_each_chunk(parts.size(), 1, [&](std::size_t k, std::size_t, std::size_t) {
             std::copy(parts[k].quads.begin(), parts[k].quads.end(), net.quads.begin() + quads[k]);
@@ -808,13 +836,15 @@ class NetBuilder {
 
     // The links as CSR: each node's neighbours in the order of the links.
     static void set_links(SurfaceNet& net, const std::vector<LinkList>& link_parts) {
-        net.link_offsets.assign(net.node_count() + 1, 0);
+        detail::resize_on_huge_pages(net.link_offsets, net.node_count() + 1, 0u);
         for (const LinkList& links : link_parts)
             for (const auto& l : links) ++net.link_offsets[l[0] + 1], ++net.link_offsets[l[1] + 1];
         for (std::size_t k = 0; k < net.node_count(); ++k)
             net.link_offsets[k + 1] += net.link_offsets[k];
-        net.links.resize(net.link_offsets.back());
-        std::vector<std::uint32_t> cursor(net.link_offsets.begin(), net.link_offsets.end() - 1);
+        detail::resize_on_huge_pages(net.links, net.link_offsets.back());
+        std::vector<std::uint32_t> cursor;
+        detail::resize_on_huge_pages(cursor, net.node_count());
+        std::copy(net.link_offsets.begin(), net.link_offsets.end() - 1, cursor.begin());
         for (const LinkList& links : link_parts)
             for (const auto& l : links) {
                 net.links[cursor[l[0]]++] = l[1];
@@ -831,7 +861,7 @@ class NetBuilder {
     std::vector<std::uint32_t> row_offsets_;     // first node of each row of cells, plus the total
     std::vector<std::size_t> link_node_offsets_; // first link node of each slab, plus the total
     mutable detail::StepProgress steps_;
-    mutable detail::ScratchPool<std::array<CellPlane, 3>> plane_pool_;
+    mutable detail::ScratchPool<CellPlanes> plane_pool_;
 };
 
 } // namespace

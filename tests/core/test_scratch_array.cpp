@@ -1,0 +1,57 @@
+// The scratch arrays of the passes (huge_pages.h): what is written is read back, moves hand the
+// storage over, and arrays of 2 MiB or more start on a 2 MiB boundary where they are mapped.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <memory>
+#include <utility>
+
+#include "core/huge_pages.h"
+
+using snert::detail::ScratchArray;
+
+namespace {
+
+// Writes a pattern over all n values and checks it back.
+void expect_holds(const ScratchArray<std::uint32_t>& a, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) a[i] = std::uint32_t(i * 2654435761u);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(a[i], std::uint32_t(i * 2654435761u)) << i;
+}
+
+} // namespace
+
+TEST(ScratchArray, SmallAndLargeArraysHoldWhatIsWritten) {
+    for (std::size_t n :
+         {std::size_t(1), std::size_t(1000), std::size_t(1) << 19, (std::size_t(3) << 20) + 7}) {
+        const ScratchArray<std::uint32_t> a(n);
+        ASSERT_NE(a.get(), nullptr) << n;
+        expect_holds(a, n);
+    }
+    EXPECT_EQ(ScratchArray<std::uint32_t>(0).get(), nullptr);
+}
+
+TEST(ScratchArray, MovesHandTheStorageOver) {
+    const std::size_t n = (std::size_t(5) << 20) / 4 + 3;
+    ScratchArray<std::uint32_t> a(n);
+    expect_holds(a, n);
+    std::uint32_t* storage = a.get();
+    ScratchArray<std::uint32_t> b(std::move(a));
+    EXPECT_EQ(b.get(), storage);
+    EXPECT_EQ(a.get(), nullptr); // NOLINT(bugprone-use-after-move): the moved-from state
+    ScratchArray<std::uint32_t> c(100);
+    c = std::move(b);
+    EXPECT_EQ(c.get(), storage);
+    EXPECT_EQ(c[n - 1], std::uint32_t((n - 1) * 2654435761u));
+}
+
+TEST(ScratchArray, LargeArraysStartOnAHugePageBoundary) {
+#if defined(__linux__) && !defined(SNERT_SCRATCH_FROM_HEAP)
+    const ScratchArray<std::uint8_t> large(std::size_t(2) << 20);
+    // std::align leaves a pointer that is already on the boundary where it is.
+    void* start = large.get();
+    std::size_t space = std::size_t(2) << 20;
+    EXPECT_EQ(std::align(std::size_t(1) << 21, 1, start, space), large.get());
+#else
+    GTEST_SKIP() << "arrays come from the heap here (not Linux, or AddressSanitizer)";
+#endif
+}
