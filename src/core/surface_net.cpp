@@ -205,20 +205,23 @@ sorted_split_edges(const std::vector<LinkNode>& link_nodes) {
     return edges;
 }
 
+// A link as its two nodes. The build writes all links into one array, each slab at the offset
+// its count gave, in the order of the cells (see NetBuilder::slab_links).
+using Link = std::array<std::uint32_t, 2>;
+
+// The polygons of a range of slabs, in output order: its quads written straight into the net's
+// array from the first of the slots its count gave (a quad split into triangles leaves its slot
+// unused, at the range's end), its fixed triangles apart.
+struct Polygons {
+    std::array<std::uint32_t, 4>* quads = nullptr; // the range's slots
+    std::size_t slots = 0, quad_count = 0;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
 // Adds the polygon of one crossed grid edge: its quad, where no link node splits a side; else
 // the quad with the link nodes inserted into their sides (up to one per side), fanned into
 // triangles from the first link node, same winding. The fan's triangles are fixed (no choice of
 // diagonal later), which is acceptable for the rare cells that need them.
-// Links (node pairs) of a range of slabs, in output order; the net's links are those of all
-// ranges in range order.
-using LinkList = std::vector<std::array<std::uint32_t, 2>>;
-
-// Quads and fixed triangles of a range of slabs, in output order.
-struct Polygons {
-    std::vector<std::array<std::uint32_t, 4>> quads;
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-};
-
 void add_quad(Polygons& out, const std::array<std::uint32_t, 4>& quad,
               const std::vector<LinkNode>& link_nodes,
               const std::vector<std::pair<std::uint64_t, std::uint32_t>>& split_edges,
@@ -226,7 +229,9 @@ void add_quad(Polygons& out, const std::array<std::uint32_t, 4>& quad,
     auto it = std::lower_bound(split_edges.begin(), split_edges.end(),
                                std::make_pair(key, std::uint32_t(0)));
     if (it == split_edges.end() || it->first != key) {
-        out.quads.push_back(quad);
+        if (out.quad_count == out.slots)
+            throw std::logic_error("surface net: fill pass makes more quads than counted");
+        out.quads[out.quad_count++] = quad;
         return;
     }
     std::array<std::uint32_t, 8> polygon{};
@@ -248,24 +253,31 @@ void add_quad(Polygons& out, const std::array<std::uint32_t, 4>& quad,
                                  polygon[std::size_t((fan + k + 1) % size)]});
 }
 
+// Sets the CSR arrays (offsets, values) of `rows` rows from for_each_entry(visit), which calls
+// visit(row, value) for every entry, in the same order each time it runs: a row's values keep
+// that order. The offsets serve as the rows' fill cursors, each then one row ahead, and are
+// shifted back afterwards: no cursor array, which on a large net is one more fresh buffer.
+template <class ForEachEntry>
+void fill_csr(std::size_t rows, std::vector<std::uint32_t>& offsets,
+              std::vector<std::uint32_t>& values, const ForEachEntry& for_each_entry) {
+    detail::assign_on_huge_pages(offsets, rows + 1, 0u);
+    for_each_entry([&](std::uint32_t row, std::uint32_t) { ++offsets[row + 1]; });
+    for (std::size_t i = 0; i < rows; ++i) offsets[i + 1] += offsets[i];
+    detail::assign_on_huge_pages(values, offsets.back(), 0u);
+    for_each_entry([&](std::uint32_t row, std::uint32_t value) { values[offsets[row]++] = value; });
+    // offsets[i] is now where row i ends, that is where row i + 1 starts.
+    std::copy_backward(offsets.begin(), offsets.end() - 1, offsets.end());
+    offsets[0] = 0;
+}
+
 void add_stars(SurfaceNet& net) {
     const std::size_t quads = net.quads.size();
-    auto for_each_corner = [&](auto&& visit) {
+    fill_csr(net.node_count(), net.star_offsets, net.star, [&](auto&& visit) {
         for (std::size_t q = 0; q < quads; ++q)
             for (std::uint32_t n : net.quads[q]) visit(n, std::uint32_t(q));
         for (std::size_t t = 0; t < net.triangles.size(); ++t)
             for (std::uint32_t n : net.triangles[t]) visit(n, std::uint32_t(quads + t));
-    };
-    detail::assign_on_huge_pages(net.star_offsets, net.node_count() + 1, 0u);
-    for_each_corner([&](std::uint32_t n, std::uint32_t) { ++net.star_offsets[n + 1]; });
-    for (std::size_t i = 0; i < net.node_count(); ++i)
-        net.star_offsets[i + 1] += net.star_offsets[i];
-    detail::assign_on_huge_pages(net.star, net.star_offsets.back(), 0u);
-    std::vector<std::uint32_t> cursor;
-    detail::resize_on_huge_pages(cursor, net.node_count());
-    std::copy(net.star_offsets.begin(), net.star_offsets.end() - 1, cursor.begin());
-    for_each_corner(
-        [&](std::uint32_t n, std::uint32_t polygon) { net.star[cursor[n]++] = polygon; });
+    });
 }
 
 // The fans of polygons around one node: polygons joined where they share an edge at the node.
@@ -346,8 +358,7 @@ bridge_of_two_fans(const SurfaceNet& net, std::uint32_t node, const NodeFans& f,
 
 // Gives fan r > 0 of `node` a copy of the node (same cell and region) that takes its polygons
 // and links; each starts a little towards its own fan so the two are apart.
-void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
-                std::vector<LinkList>& link_parts) {
+void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f, std::span<Link> links) {
     for (std::size_t r = 0; r < f.roots.size(); ++r) {
         const std::uint32_t owner = r == 0 ? node : std::uint32_t(net.node_count());
         glm::vec3 centre(0.0f);
@@ -362,12 +373,11 @@ void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
                                                      : net.triangles[id - net.quads.size()].data();
             for (int j = 0; j < (id < net.quads.size() ? 4 : 3); ++j)
                 if (p[j] == node) p[j] = owner;
-            for (LinkList& links : link_parts)
-                for (auto& l : links)
-                    for (int e = 0; e < 2; ++e)
-                        if (l[std::size_t(e)] == node && (l[std::size_t(1 - e)] == f.in_of[k] ||
-                                                          l[std::size_t(1 - e)] == f.out_of[k]))
-                            l[std::size_t(e)] = owner;
+            for (Link& l : links)
+                for (int e = 0; e < 2; ++e)
+                    if (l[std::size_t(e)] == node && (l[std::size_t(1 - e)] == f.in_of[k] ||
+                                                      l[std::size_t(1 - e)] == f.out_of[k]))
+                        l[std::size_t(e)] = owner;
         }
         const NodeBox box = node_box(net, node);
         glm::vec3 start =
@@ -395,7 +405,7 @@ void split_fans(SurfaceNet& net, std::uint32_t node, const NodeFans& f,
 // needs it). A change touches the stars of the nodes around it, so a node next to one changed in
 // this pass waits for the next pass, with stars built anew. Leaves the stars of the mended net
 // in net.star_offsets and net.star.
-void mend_pinched_border_nodes(SurfaceNet& net, std::vector<LinkList>& link_parts) {
+void mend_pinched_border_nodes(SurfaceNet& net, std::span<Link> links) {
     constexpr int kPasses = 16;
     add_stars(net);
     for (int pass = 0; pass < kPasses; ++pass) {
@@ -443,7 +453,7 @@ void mend_pinched_border_nodes(SurfaceNet& net, std::vector<LinkList>& link_part
                 net.triangles.push_back(*bridge);
                 changed = true;
             } else if (pass + 1 < kPasses || !waiting) {
-                split_fans(net, node, f, link_parts);
+                split_fans(net, node, f, links);
                 changed = true;
             }
         }
@@ -552,6 +562,8 @@ class NetBuilder {
         const std::size_t rows = std::size_t(cd_.y) * slabs;
         row_offsets_.assign(rows + 1, 0);
         link_node_offsets_.assign(slabs + 1, 0);
+        link_offsets_.assign(slabs + 1, 0);
+        quad_offsets_.assign(slabs + 1, 0);
         for_each_chunk(slabs, kSlabsPerChunk, [&](std::size_t, std::size_t first, std::size_t end) {
             for (std::size_t z = first; z < end; ++z) count_nodes(int(z));
         });
@@ -568,31 +580,36 @@ class NetBuilder {
                 throw InputError("surface net: the net would have more than 2^32 nodes, more "
                                  "than 32-bit indices can address");
             link_node_offsets_[z + 1] += link_node_offsets_[z];
+            link_offsets_[z + 1] += link_offsets_[z];
+            quad_offsets_[z + 1] += quad_offsets_[z];
         }
 
         SurfaceNet net;
         net.cell_dims = cd_;
         const std::size_t nodes = link_node_offsets_[slabs];
-        // The node arrays are zeroed in parallel: a serial part of the run otherwise.
-        for_each_chunk(4, 1, [&](std::size_t array, std::size_t, std::size_t) {
+        // The node arrays and the quads' slots are zeroed in parallel: a serial part of the run
+        // otherwise.
+        for_each_chunk(5, 1, [&](std::size_t array, std::size_t, std::size_t) {
             if (array == 0) detail::resize_on_huge_pages(net.cells, nodes);
             if (array == 1) detail::resize_on_huge_pages(net.pieces, nodes);
             if (array == 2) detail::resize_on_huge_pages(net.regions, nodes);
             if (array == 3) detail::resize_on_huge_pages(net.positions, nodes);
+            if (array == 4) detail::resize_on_huge_pages(net.quads, quad_offsets_[slabs]);
         });
-        std::vector<LinkList> link_parts(chunk_count(slabs, kSlabsPerChunk));
-        std::vector<Polygons> polygon_parts(link_parts.size());
-        for_each_chunk(
-            slabs, kSlabsPerChunk, [&](std::size_t chunk, std::size_t first, std::size_t end) {
-                fill_slabs(int(first), int(end), net, link_parts[chunk], polygon_parts[chunk]);
-            });
+        links_ = detail::ScratchArray<Link>(link_offsets_[slabs]);
+        const std::span<Link> links(links_.get(), link_offsets_[slabs]);
+        std::vector<Polygons> polygon_parts(chunk_count(slabs, kSlabsPerChunk));
+        for_each_chunk(slabs, kSlabsPerChunk,
+                       [&](std::size_t chunk, std::size_t first, std::size_t end) {
+                           fill_slabs(int(first), int(end), net, polygon_parts[chunk]);
+                       });
         // The classification is done with: its bit a voxel (13 MB on a 512 x 512 x 400 CT) is let
         // go before the polygons, stars and links are gathered, the build's peak of memory.
         bits_ = detail::BitVolume();
 
-        concatenate(polygon_parts, net);
-        mend_pinched_border_nodes(net, link_parts); // also builds the stars
-        set_links(net, link_parts);
+        gather_polygons(polygon_parts, net);
+        mend_pinched_border_nodes(net, links); // also builds the stars
+        set_links(net, links);
         progress_.update(1.0f);
         return net;
     }
@@ -626,26 +643,46 @@ class NetBuilder {
         return row_offsets_[r + 1] != row_offsets_[r];
     }
 
-    // Nodes of each row of cells of slab z (one per piece), and link nodes of the slab.
+    // Nodes of each row of cells of slab z (one per piece), and the link nodes, links and quad
+    // slots of the slab (slab_links and slab_quads make the same ones).
     void count_nodes(int z) {
         steps_.step();
-        std::uint32_t link_nodes = 0;
+        std::size_t link_nodes = 0, links = 0, quads = 0;
         for (int y = 0; y < cd_.y; ++y) {
             std::uint32_t count = 0;
             bits_.for_each_surface_cell(y, z, [&](int x, unsigned mask) {
                 count += cases_[mask].loop_count;
+                quads += quad_slots(x, y, z, mask);
                 for (int axis = 0; axis < 3; ++axis) {
-                    const FaceSegments& face = face_segments(mask, axis);
-                    if (face.count != 2) continue;
                     glm::ivec3 n(x, y, z);
                     if (++n[axis] >= cd_[axis]) continue;
+                    const FaceSegments& face = face_segments(mask, axis);
+                    links += std::size_t(face.count);
+                    if (face.count != 2) continue;
                     const unsigned neighbour_mask = bits_.cell_rows(n.y, n.z).mask(n.x);
-                    if (doubled_link(pieces_, mask, neighbour_mask, axis, face)) ++link_nodes;
+                    if (doubled_link(pieces_, mask, neighbour_mask, axis, face))
+                        ++link_nodes, ++links; // a-m-b instead of a-b
                 }
             });
             row_offsets_[row_index(y, z) + 1] = count;
         }
         link_node_offsets_[std::size_t(z) + 1] = link_nodes;
+        link_offsets_[std::size_t(z) + 1] = links;
+        quad_offsets_[std::size_t(z) + 1] = quads;
+    }
+
+    // Whether the grid edge from cell p's lowest corner along `axis` (case `mask`) makes a
+    // polygon: when its two voxels differ (corners 0 and 1 << axis), and it is not on the grid's
+    // border, where it has fewer than 4 cells around it.
+    static bool makes_polygon(const int p[3], unsigned mask, int axis) {
+        return ((mask >> (1 << axis)) & 1u) != (mask & 1u) && p[(axis + 1) % 3] >= 1 &&
+               p[(axis + 2) % 3] >= 1;
+    }
+    // The polygons surface cell (x, y, z) makes in slab_quads.
+    static std::size_t quad_slots(int x, int y, int z, unsigned mask) {
+        const int p[3] = {x, y, z};
+        return std::size_t(makes_polygon(p, mask, 0)) + std::size_t(makes_polygon(p, mask, 1)) +
+               std::size_t(makes_polygon(p, mask, 2));
     }
 
     void fill_plane(int z, CellPlane& plane) const {
@@ -662,13 +699,9 @@ class NetBuilder {
     // Nodes, links and polygons of slabs [first, last). The cell planes z - 1, z and z + 1 are
     // at hand for slab z; the link nodes of slab first - 1, which the polygons of slab first
     // can need, are found again (without their links).
-    void fill_slabs(int first, int last, SurfaceNet& net, LinkList& links,
-                    Polygons& polygons) const {
-        // About two links and one quad per node on smooth surfaces.
-        const std::size_t nodes =
-            row_offsets_[row_index(0, last)] - row_offsets_[row_index(0, first)];
-        links.reserve(2 * nodes);
-        polygons.quads.reserve(nodes);
+    void fill_slabs(int first, int last, SurfaceNet& net, Polygons& polygons) const {
+        polygons.quads = net.quads.data() + quad_offsets_[std::size_t(first)];
+        polygons.slots = quad_offsets_[std::size_t(last)] - quad_offsets_[std::size_t(first)];
         const auto planes = plane_pool_.take([&] { return CellPlanes(cd_); });
         const auto plane = [&](int z) -> CellPlane& { return (*planes)[z]; };
         std::vector<LinkNode> before, here; // link nodes of slabs z - 1 and z
@@ -676,15 +709,15 @@ class NetBuilder {
         fill_plane(first, plane(first));
         if (first > 0) {
             fill_plane(first - 1, plane(first - 1));
-            LinkList ignored;
-            slab_links(first - 1, plane(first - 1), plane(first), ignored, before);
+            slab_links(first - 1, plane(first - 1), plane(first), nullptr, before);
         }
         for (int z = first; z < last; ++z) {
             steps_.step();
             if (z + 1 < cd_.z) fill_plane(z + 1, plane(z + 1));
             fill_nodes(z, net);
             here.clear();
-            slab_links(z, plane(z), plane(z + 1), links, here);
+            slab_links(z, plane(z), plane(z + 1), links_.get() + link_offsets_[std::size_t(z)],
+                       here);
             add_link_nodes(net, here);
             std::vector<LinkNode> near(before);
             near.insert(near.end(), here.begin(), here.end());
@@ -727,9 +760,19 @@ class NetBuilder {
     // between them (share a crossed edge of it), cell by cell in node order. Where both
     // segments of an ambiguous face join the same two pieces, the second gets a node of its own
     // (LinkNode), numbered after the cells' nodes in slab order.
-    void slab_links(int z, const CellPlane& plane, const CellPlane& above, LinkList& links,
+    // The links go to `links`, the slab's part of the links' array (none when null: the slab
+    // before a chunk, where only the link nodes are wanted).
+    void slab_links(int z, const CellPlane& plane, const CellPlane& above, Link* links,
                     std::vector<LinkNode>& link_nodes) const {
         std::uint32_t next_link_node = std::uint32_t(link_node_offsets_[std::size_t(z)]);
+        const std::size_t count = link_offsets_[std::size_t(z) + 1] - link_offsets_[std::size_t(z)];
+        std::size_t made = 0;
+        const auto add_link = [&](std::uint32_t a, std::uint32_t b) {
+            if (links == nullptr) return;
+            if (made == count)
+                throw std::logic_error("surface net: fill pass makes more links than counted");
+            links[made++] = {a, b};
+        };
         for (int y = 0; y < cd_.y; ++y) {
             if (!row_has_cells(y, z)) continue;
             std::uint32_t i = row_offsets_[row_index(y, z)];
@@ -758,17 +801,18 @@ class NetBuilder {
                                                    edge_key(dims_, c, face.edges[1][1])},
                                                   face.edges[1],
                                                   axis});
-                            links.push_back({a, m});
-                            links.push_back({m, b});
+                            add_link(a, m);
+                            add_link(m, b);
                             continue;
                         }
-                        links.push_back({a, b});
+                        add_link(a, b);
                     }
                 }
                 i += cases_[mask].loop_count;
             });
         }
-        if (next_link_node != link_node_offsets_[std::size_t(z) + 1])
+        if (next_link_node != link_node_offsets_[std::size_t(z) + 1] ||
+            (links != nullptr && made != count))
             throw std::logic_error("surface net: fill pass disagrees with count pass");
     }
 
@@ -798,9 +842,7 @@ class NetBuilder {
                 const int p[3] = {x, y, z};
                 const bool here = (mask & 1u) != 0;
                 for (int axis = 0; axis < 3; ++axis) {
-                    // The edge from corner 0 to corner 1 << axis: crossed when they differ.
-                    if (((mask >> (1 << axis)) & 1u) == unsigned(here)) continue;
-                    if (p[(axis + 1) % 3] < 1 || p[(axis + 2) % 3] < 1) continue; // border edge
+                    if (!makes_polygon(p, mask, axis)) continue;
                     std::array<std::uint32_t, 4> quad;
                     for (int k = 0; k < 4; ++k) {
                         const RingCell& r = rings[std::size_t(axis)][std::size_t(k)];
@@ -817,39 +859,30 @@ class NetBuilder {
         }
     }
 
-    // The polygons of all ranges, in range order (copied in parallel).
-    static void concatenate(std::vector<Polygons>& parts, SurfaceNet& net) {
-        std::vector<std::size_t> quads(parts.size() + 1, 0), triangles(parts.size() + 1, 0);
-        for (std::size_t k = 0; k < parts.size(); ++k) {
-            quads[k + 1] = quads[k] + parts[k].quads.size();
-            triangles[k + 1] = triangles[k] + parts[k].triangles.size();
+    // The polygons of all ranges, in range order: each range's quads moved down over the slots
+    // that split quads left unused before it (none on most volumes), the triangles joined.
+    static void gather_polygons(const std::vector<Polygons>& parts, SurfaceNet& net) {
+        std::size_t quads = 0, triangles = 0;
+        for (const Polygons& part : parts) {
+            if (part.quads != net.quads.data() + quads) // moving down: std::copy may overlap
+                std::copy(part.quads, part.quads + part.quad_count, net.quads.begin() + quads);
+            quads += part.quad_count;
+            triangles += part.triangles.size();
         }
-        detail::resize_on_huge_pages(net.quads, quads.back());
-        net.triangles.resize(triangles.back());
-        for_each_chunk(parts.size(), 1, [&](std::size_t k, std::size_t, std::size_t) {
-            std::copy(parts[k].quads.begin(), parts[k].quads.end(), net.quads.begin() + quads[k]);
-            std::copy(parts[k].triangles.begin(), parts[k].triangles.end(),
-                      net.triangles.begin() + triangles[k]);
-            parts[k] = {};
-        });
+        net.quads.resize(quads);
+        net.triangles.reserve(triangles);
+        for (const Polygons& part : parts)
+            net.triangles.insert(net.triangles.end(), part.triangles.begin(), part.triangles.end());
     }
 
     // The links as CSR: each node's neighbours in the order of the links.
-    static void set_links(SurfaceNet& net, const std::vector<LinkList>& link_parts) {
-        detail::resize_on_huge_pages(net.link_offsets, net.node_count() + 1, 0u);
-        for (const LinkList& links : link_parts)
-            for (const auto& l : links) ++net.link_offsets[l[0] + 1], ++net.link_offsets[l[1] + 1];
-        for (std::size_t k = 0; k < net.node_count(); ++k)
-            net.link_offsets[k + 1] += net.link_offsets[k];
-        detail::resize_on_huge_pages(net.links, net.link_offsets.back());
-        std::vector<std::uint32_t> cursor;
-        detail::resize_on_huge_pages(cursor, net.node_count());
-        std::copy(net.link_offsets.begin(), net.link_offsets.end() - 1, cursor.begin());
-        for (const LinkList& links : link_parts)
-            for (const auto& l : links) {
-                net.links[cursor[l[0]]++] = l[1];
-                net.links[cursor[l[1]]++] = l[0];
+    static void set_links(SurfaceNet& net, std::span<const Link> links) {
+        fill_csr(net.node_count(), net.link_offsets, net.links, [&](auto&& visit) {
+            for (const Link& l : links) {
+                visit(l[0], l[1]);
+                visit(l[1], l[0]);
             }
+        });
     }
 
     const InsideSource source_;
@@ -860,6 +893,9 @@ class NetBuilder {
     const PieceTable& pieces_;
     std::vector<std::uint32_t> row_offsets_;     // first node of each row of cells, plus the total
     std::vector<std::size_t> link_node_offsets_; // first link node of each slab, plus the total
+    std::vector<std::size_t> link_offsets_;      // first link of each slab, plus the total
+    std::vector<std::size_t> quad_offsets_;      // first quad slot of each slab, plus the total
+    detail::ScratchArray<Link> links_;           // all links, slab after slab
     mutable detail::StepProgress steps_;
     mutable detail::ScratchPool<CellPlanes> plane_pool_;
 };
