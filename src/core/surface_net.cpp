@@ -9,11 +9,12 @@
 //
 // Passes over slabs of cells, as in VTK's flying edges, each over fixed chunks of slabs in
 // parallel: the inside bits (bit_planes.h, shared with Marching Cubes), counts of nodes per row
-// and of link nodes per slab, their prefix sums into node ids, then one pass that fills nodes,
-// links and polygons. Node ids follow the cells' x-fastest order (pieces of one cell in loop
-// order), and each chunk's links and polygons are joined in chunk order, so the output does not
-// depend on scheduling. A chunk looks nodes up in dense planes of cells around its current slab
-// (three planes, not a volume-sized index), so memory stays proportional to the surface.
+// and of link nodes, links and quads per slab, their prefix sums into node ids and offsets, then
+// one pass that fills nodes, links and quads in place, each slab from its offsets. Node ids
+// follow the cells' x-fastest order (pieces of one cell in loop order), and the rare fixed
+// triangles are joined in chunk order, so the output does not depend on scheduling. A chunk
+// looks nodes up in dense planes of cells around its current slab (three planes, not a
+// volume-sized index), so memory stays proportional to the surface.
 #include "surface_net.h"
 
 #include <algorithm>
