@@ -42,6 +42,16 @@ void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()
     std::size_t space = n * sizeof(T);
     if (std::align(kHuge, kHuge, first, space) != nullptr)
         madvise(first, space & ~(kHuge - 1), MADV_HUGEPAGE);
+#if defined(MADV_POPULATE_WRITE)
+    // The small pages before and after those fault one by one as resize() writes them, each a
+    // trip into the kernel (about 10 us on a virtual machine); asked for all at once, the
+    // kernel maps them in one call. Only the buffer's own pages: it writes them all anyway.
+    constexpr std::size_t kPage = std::size_t(1) << 12, kWorthIt = std::size_t(1) << 18;
+    void* page = static_cast<void*>(v.data());
+    std::size_t rest = n * sizeof(T);
+    if (rest >= kWorthIt && std::align(kPage, kPage, page, rest) != nullptr)
+        madvise(page, rest & ~(kPage - 1), MADV_POPULATE_WRITE);
+#endif
 #endif
     v.resize(n, value);
 }

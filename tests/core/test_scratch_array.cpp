@@ -37,7 +37,8 @@ TEST(ScratchArray, MovesHandTheStorageOver) {
     std::uint32_t* storage = a.get();
     ScratchArray<std::uint32_t> b(std::move(a));
     EXPECT_EQ(b.get(), storage);
-    EXPECT_EQ(a.get(), nullptr); // NOLINT(bugprone-use-after-move): the moved-from state
+    // NOLINTNEXTLINE(bugprone-use-after-move,clang-analyzer-cplusplus.Move): the moved-from state
+    EXPECT_EQ(a.get(), nullptr);
     ScratchArray<std::uint32_t> c(100);
     c = std::move(b);
     EXPECT_EQ(c.get(), storage);
