@@ -31,28 +31,42 @@
 
 namespace snert::detail {
 
-// Sizes the empty vector `v` to n copies of `value`, its storage advised to use huge pages first.
-template <class T>
-void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
+// Reserves room for n values in the empty vector `v`, the whole 2 MiB pages of it advised to be
+// huge pages (std::align: no integer-to-pointer cast).
+template <class T> void reserve_on_huge_pages(std::vector<T>& v, std::size_t n) {
     v.reserve(n);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    // The whole 2 MiB pages within the storage (std::align: no integer-to-pointer cast).
     constexpr std::size_t kHuge = std::size_t(1) << 21;
     void* first = static_cast<void*>(v.data());
     std::size_t space = n * sizeof(T);
     if (std::align(kHuge, kHuge, first, space) != nullptr)
         madvise(first, space & ~(kHuge - 1), MADV_HUGEPAGE);
-#if defined(MADV_POPULATE_WRITE)
-    // The small pages before and after those fault one by one as resize() writes them, each a
-    // trip into the kernel (about 10 us on a virtual machine); asked for all at once, the
-    // kernel maps them in one call. Only the buffer's own pages: it writes them all anyway.
-    constexpr std::size_t kPage = std::size_t(1) << 12, kWorthIt = std::size_t(1) << 18;
-    void* page = static_cast<void*>(v.data());
-    std::size_t rest = n * sizeof(T);
-    if (rest >= kWorthIt && std::align(kPage, kPage, page, rest) != nullptr)
-        madvise(page, rest & ~(kPage - 1), MADV_POPULATE_WRITE);
 #endif
+}
+
+// Has the kernel map the whole 4 KiB pages of [begin, begin + bytes) at once, for memory about to
+// be written. The small pages of a heap block (before and after its huge ones) otherwise fault one
+// by one as they are first written, each a trip into the kernel (about 10 us on a virtual
+// machine); asked for together, they are mapped in one call.
+inline void map_pages_for_writing(void* begin, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+    constexpr std::size_t kPage = std::size_t(1) << 12;
+    if (std::align(kPage, kPage, begin, bytes) != nullptr)
+        madvise(begin, bytes & ~(kPage - 1), MADV_POPULATE_WRITE);
+#else
+    (void)begin;
+    (void)bytes;
 #endif
+}
+
+// Sizes the empty vector `v` to n copies of `value`, its storage advised to use huge pages and
+// mapped in one call first.
+template <class T>
+void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
+    reserve_on_huge_pages(v, n);
+    constexpr std::size_t kWorthACall = std::size_t(1) << 18;
+    if (n * sizeof(T) >= kWorthACall)
+        map_pages_for_writing(static_cast<void*>(v.data()), n * sizeof(T));
     v.resize(n, value);
 }
 

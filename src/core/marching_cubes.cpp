@@ -377,12 +377,29 @@ class Extractor {
                        });
         set_offsets(slab_triangles);
         Mesh mesh;
-        // The two arrays are zeroed on two threads: a serial part of the run, at up to 60 MB.
+        // Sizing the two arrays (up to 60 MB) is a serial part of the run: with fresh memory the
+        // kernel's mapping of their pages is most of it, so that is asked for in pieces on every
+        // thread first (the indices are twice the positions), then each is zeroed.
+        const std::size_t vertices = vertex_offset_.back(), indices = 3 * triangle_offset_.back();
+        detail::reserve_on_huge_pages(mesh.positions, vertices);
+        detail::reserve_on_huge_pages(mesh.indices, indices);
+        constexpr std::size_t kPieces = 8;
+        for_each_chunk(2 * kPieces, 1, [&](std::size_t k, std::size_t, std::size_t) {
+            const auto map_piece = [](auto& v, std::size_t n, std::size_t piece) {
+                const std::size_t first = n * piece / kPieces, end = n * (piece + 1) / kPieces;
+                detail::map_pages_for_writing(static_cast<void*>(v.data() + first),
+                                              (end - first) * sizeof(v[0]));
+            };
+            if (k < kPieces)
+                map_piece(mesh.positions, vertices, k);
+            else
+                map_piece(mesh.indices, indices, k - kPieces);
+        });
         for_each_chunk(2, 1, [&](std::size_t array, std::size_t, std::size_t) {
             if (array == 0)
-                detail::resize_on_huge_pages(mesh.positions, vertex_offset_.back());
+                mesh.positions.resize(vertices);
             else
-                detail::resize_on_huge_pages(mesh.indices, 3 * triangle_offset_.back());
+                mesh.indices.resize(indices);
         });
         for_each_chunk(slabs, kSlabsPerChunk, [&](std::size_t, std::size_t first, std::size_t end) {
             fill_slabs(int(first), int(end), mesh);
