@@ -563,8 +563,8 @@ class NetBuilder {
         const std::size_t rows = std::size_t(cd_.y) * slabs;
         row_offsets_.assign(rows + 1, 0);
         link_node_offsets_.assign(slabs + 1, 0);
-        link_offsets_.assign(slabs + 1, 0);
-        quad_offsets_.assign(slabs + 1, 0);
+        slab_link_offsets_.assign(slabs + 1, 0);
+        slab_quad_offsets_.assign(slabs + 1, 0);
         for_each_chunk(slabs, kSlabsPerChunk, [&](std::size_t, std::size_t first, std::size_t end) {
             for (std::size_t z = first; z < end; ++z) count_nodes(int(z));
         });
@@ -581,8 +581,8 @@ class NetBuilder {
                 throw InputError("surface net: the net would have more than 2^32 nodes, more "
                                  "than 32-bit indices can address");
             link_node_offsets_[z + 1] += link_node_offsets_[z];
-            link_offsets_[z + 1] += link_offsets_[z];
-            quad_offsets_[z + 1] += quad_offsets_[z];
+            slab_link_offsets_[z + 1] += slab_link_offsets_[z];
+            slab_quad_offsets_[z + 1] += slab_quad_offsets_[z];
         }
 
         SurfaceNet net;
@@ -595,10 +595,10 @@ class NetBuilder {
             if (array == 1) detail::resize_on_huge_pages(net.pieces, nodes);
             if (array == 2) detail::resize_on_huge_pages(net.regions, nodes);
             if (array == 3) detail::resize_on_huge_pages(net.positions, nodes);
-            if (array == 4) detail::resize_on_huge_pages(net.quads, quad_offsets_[slabs]);
+            if (array == 4) detail::resize_on_huge_pages(net.quads, slab_quad_offsets_[slabs]);
         });
-        links_ = detail::ScratchArray<Link>(link_offsets_[slabs]);
-        const std::span<Link> links(links_.get(), link_offsets_[slabs]);
+        links_ = detail::ScratchArray<Link>(slab_link_offsets_[slabs]);
+        const std::span<Link> links(links_.get(), slab_link_offsets_[slabs]);
         std::vector<Polygons> polygon_parts(chunk_count(slabs, kSlabsPerChunk));
         for_each_chunk(slabs, kSlabsPerChunk,
                        [&](std::size_t chunk, std::size_t first, std::size_t end) {
@@ -668,8 +668,8 @@ class NetBuilder {
             row_offsets_[row_index(y, z) + 1] = count;
         }
         link_node_offsets_[std::size_t(z) + 1] = link_nodes;
-        link_offsets_[std::size_t(z) + 1] = links;
-        quad_offsets_[std::size_t(z) + 1] = quads;
+        slab_link_offsets_[std::size_t(z) + 1] = links;
+        slab_quad_offsets_[std::size_t(z) + 1] = quads;
     }
 
     // Whether the grid edge from cell p's lowest corner along `axis` (case `mask`) makes a
@@ -701,8 +701,9 @@ class NetBuilder {
     // at hand for slab z; the link nodes of slab first - 1, which the polygons of slab first
     // can need, are found again (without their links).
     void fill_slabs(int first, int last, SurfaceNet& net, Polygons& polygons) const {
-        polygons.quads = net.quads.data() + quad_offsets_[std::size_t(first)];
-        polygons.slots = quad_offsets_[std::size_t(last)] - quad_offsets_[std::size_t(first)];
+        polygons.quads = net.quads.data() + slab_quad_offsets_[std::size_t(first)];
+        polygons.slots =
+            slab_quad_offsets_[std::size_t(last)] - slab_quad_offsets_[std::size_t(first)];
         const auto planes = plane_pool_.take([&] { return CellPlanes(cd_); });
         const auto plane = [&](int z) -> CellPlane& { return (*planes)[z]; };
         std::vector<LinkNode> before, here; // link nodes of slabs z - 1 and z
@@ -717,7 +718,7 @@ class NetBuilder {
             if (z + 1 < cd_.z) fill_plane(z + 1, plane(z + 1));
             fill_nodes(z, net);
             here.clear();
-            slab_links(z, plane(z), plane(z + 1), links_.get() + link_offsets_[std::size_t(z)],
+            slab_links(z, plane(z), plane(z + 1), links_.get() + slab_link_offsets_[std::size_t(z)],
                        here);
             add_link_nodes(net, here);
             std::vector<LinkNode> near(before);
@@ -766,7 +767,8 @@ class NetBuilder {
     void slab_links(int z, const CellPlane& plane, const CellPlane& above, Link* links,
                     std::vector<LinkNode>& link_nodes) const {
         std::uint32_t next_link_node = std::uint32_t(link_node_offsets_[std::size_t(z)]);
-        const std::size_t count = link_offsets_[std::size_t(z) + 1] - link_offsets_[std::size_t(z)];
+        const std::size_t count =
+            slab_link_offsets_[std::size_t(z) + 1] - slab_link_offsets_[std::size_t(z)];
         std::size_t made = 0;
         const auto add_link = [&](std::uint32_t a, std::uint32_t b) {
             if (links == nullptr) return;
@@ -894,8 +896,8 @@ class NetBuilder {
     const PieceTable& pieces_;
     std::vector<std::uint32_t> row_offsets_;     // first node of each row of cells, plus the total
     std::vector<std::size_t> link_node_offsets_; // first link node of each slab, plus the total
-    std::vector<std::size_t> link_offsets_;      // first link of each slab, plus the total
-    std::vector<std::size_t> quad_offsets_;      // first quad slot of each slab, plus the total
+    std::vector<std::size_t> slab_link_offsets_; // first link of each slab, plus the total
+    std::vector<std::size_t> slab_quad_offsets_; // first quad slot of each slab, plus the total
     detail::ScratchArray<Link> links_;           // all links, slab after slab
     mutable detail::StepProgress steps_;
     mutable detail::ScratchPool<CellPlanes> plane_pool_;
