@@ -24,6 +24,7 @@
 #include <utility>
 
 #include "cell_lists.h"
+#include "huge_pages.h"
 #include "parallel.h"
 #include "serial_number.h"
 
@@ -820,7 +821,20 @@ void MeshDistance::Impl::build() {
         throw std::invalid_argument("mesh distance: the reference mesh has no triangles");
     if (triangle_count() >= kNone)
         throw std::invalid_argument("mesh distance: too many reference triangles");
-    spheres.resize(triangle_count());
+    // While the grid is built, the reference's points mapped once: its passes read each corner of
+    // each triangle five times, and a point is a corner of about six triangles. The same floats
+    // as the map gives; afterwards the queries map the few corners they read.
+    const std::span<const glm::vec3> given = positions;
+    std::vector<glm::vec3> mapped;
+    if (to_space) {
+        detail::resize_on_huge_pages(mapped, given.size());
+        for_each_chunk(given.size(), kVertexChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) mapped[i] = (*to_space)(given[i]);
+        });
+        positions = mapped;
+    }
+    const std::optional<WorldToIndex> map = std::exchange(to_space, std::nullopt);
+    detail::resize_on_huge_pages(spheres, triangle_count());
     for_each_chunk(spheres.size(), kTriangleChunk,
                    [&](std::size_t, std::size_t first, std::size_t last) {
                        for (std::size_t t = first; t < last; ++t)
@@ -829,23 +843,43 @@ void MeshDistance::Impl::build() {
     choose_grid();
     fill_cells();
     compute_empty_shells();
+    positions = given;
+    to_space = map;
 }
 
 // Cells of about the mean edge length hold a few triangles each; the cell count is capped so the
 // grid stays small for long thin or widely spread meshes.
 void MeshDistance::Impl::choose_grid() {
+    // The bounds and the sum of edges, per chunk of triangles and then over the chunks in order
+    // (the same sums whatever the thread count).
+    struct Extent {
+        glm::dvec3 lo{std::numeric_limits<double>::max()},
+            hi{std::numeric_limits<double>::lowest()};
+        double edge_sum = 0;
+    };
+    const std::size_t triangles = triangle_count();
+    std::vector<Extent> extents(chunk_count(triangles, kTriangleChunk));
+    for_each_chunk(
+        triangles, kTriangleChunk, [&](std::size_t chunk, std::size_t first, std::size_t last) {
+            Extent x; // kept here, stored once: the chunks' extents share cache lines
+            for (std::size_t i = first; i < last; ++i) {
+                const Corners t = corners(i);
+                for (const glm::dvec3 p : {t.a, t.b, t.c}) {
+                    x.lo = glm::min(x.lo, p);
+                    x.hi = glm::max(x.hi, p);
+                }
+                // In float, as the corners are stored.
+                const glm::vec3 a(t.a), b(t.b), c(t.c);
+                x.edge_sum += glm::distance(a, b) + glm::distance(b, c) + glm::distance(c, a);
+            }
+            extents[chunk] = x;
+        });
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
     double edge_sum = 0;
-    const std::size_t triangles = triangle_count();
-    for (std::size_t i = 0; i < triangles; ++i) {
-        const Corners t = corners(i);
-        for (const glm::dvec3 p : {t.a, t.b, t.c}) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
-        // In float, as the corners are stored.
-        const glm::vec3 a(t.a), b(t.b), c(t.c);
-        edge_sum += glm::distance(a, b) + glm::distance(b, c) + glm::distance(c, a);
+    for (const Extent& x : extents) {
+        lo = glm::min(lo, x.lo);
+        hi = glm::max(hi, x.hi);
+        edge_sum += x.edge_sum;
     }
     if (!std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z))
         throw std::invalid_argument("mesh distance: the reference mesh has non-finite vertices");
@@ -870,11 +904,10 @@ void MeshDistance::Impl::choose_grid() {
 // Lists each triangle in every cell its bounding box overlaps.
 void MeshDistance::Impl::fill_cells() {
     const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
-    const std::size_t triangles = triangle_count();
     cell_triangles.build(
-        cells,
-        [&](auto&& visit) {
-            for (std::size_t t = 0; t < triangles; ++t) {
+        cells, triangle_count(),
+        [&](std::size_t first, std::size_t last, auto&& visit) {
+            for (std::size_t t = first; t < last; ++t) {
                 const auto [a, b, c] = corners(t);
                 const glm::ivec3 lo = cell_of(glm::min(a, glm::min(b, c)));
                 const glm::ivec3 hi = cell_of(glm::max(a, glm::max(b, c)));
@@ -888,50 +921,58 @@ void MeshDistance::Impl::fill_cells() {
 }
 
 // Two raster passes, each taking the minimum over the 13 already visited neighbours plus one:
-// with unit weights this is the exact chessboard distance to the nearest occupied cell.
+// with unit weights this is the exact chessboard distance to the nearest occupied cell. Of a
+// cell's 13 neighbours 12 lie in rows finished before its own (the row before it in its slice and
+// three rows of the slice before): their minimum is taken for a whole row at once, in loops the
+// compiler vectorises; the last, the cell before it in its row, in a scan along the row.
 void MeshDistance::Impl::compute_empty_shells() {
     const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
     constexpr std::uint8_t kFar = std::numeric_limits<std::uint8_t>::max();
     empty_shells.assign(cells, kFar);
-    for (std::size_t c = 0; c < cells; ++c)
-        if (cell_triangles.occupied(c)) empty_shells[c] = 0;
-    // Neighbours earlier in the forward raster order: the previous slice (9), the previous row
-    // of this slice (3) and the previous cell of this row (1). The backward pass mirrors them.
-    std::array<glm::ivec3, 13> before;
-    std::size_t count = 0;
-    for (int dz = -1; dz <= 0; ++dz)
-        for (int dy = -1; dy <= (dz < 0 ? 1 : 0); ++dy)
-            for (int dx = -1; dx <= (dz < 0 || dy < 0 ? 1 : -1); ++dx)
-                before[count++] = {dx, dy, dz};
-    const std::ptrdiff_t stride_y = dims.x, stride_z = std::ptrdiff_t(dims.x) * dims.y;
-    auto pass = [&](int step) {
-        std::array<std::ptrdiff_t, 13> offset;
-        for (std::size_t k = 0; k < before.size(); ++k)
-            offset[k] = step * (before[k].x + before[k].y * stride_y + before[k].z * stride_z);
+    cell_triangles.for_each_occupied([&](std::size_t c) { empty_shells[c] = 0; });
+    const std::size_t width = std::size_t(dims.x);
+    std::vector<std::uint8_t> nearest(width);
+    // nearest[x] = min(nearest[x], row[x - 1], row[x], row[x + 1]), within the row.
+    // In blocks of 16: loops of a known length, which GCC vectorises at -O2.
+    const auto min_into = [](std::uint8_t* __restrict m, const std::uint8_t* __restrict r,
+                             std::size_t n) {
+        constexpr std::size_t kBlock = 16;
+        std::size_t x = 0;
+        for (; x + kBlock <= n; x += kBlock)
+            for (std::size_t k = 0; k < kBlock; ++k) m[x + k] = std::min(m[x + k], r[x + k]);
+        for (; x < n; ++x) m[x] = std::min(m[x], r[x]);
+    };
+    const auto take_row = [&](std::uint8_t* m, const std::uint8_t* row) {
+        min_into(m, row, width);
+        min_into(m + 1, row, width - 1);
+        min_into(m, row + 1, width - 1);
+    };
+    // step +1: rows and cells in increasing order; -1: decreasing (the neighbours mirrored).
+    const auto pass = [&](int step) {
         for (int zi = 0; zi < dims.z; ++zi)
-            for (int yi = 0; yi < dims.y; ++yi)
-                for (int xi = 0; xi < dims.x; ++xi) {
-                    const int x = step > 0 ? xi : dims.x - 1 - xi;
-                    const int y = step > 0 ? yi : dims.y - 1 - yi;
-                    const int z = step > 0 ? zi : dims.z - 1 - zi;
-                    const std::size_t c = cell_index(x, y, z);
-                    if (empty_shells[c] == 0) continue;
-                    const bool inside = x > 0 && y > 0 && z > 0 && x < dims.x - 1 &&
-                                        y < dims.y - 1 && z < dims.z - 1;
-                    std::uint8_t nearest = kFar;
-                    for (std::size_t k = 0; k < before.size(); ++k) {
-                        if (!inside) {
-                            const glm::ivec3 n = glm::ivec3(x, y, z) + step * before[k];
-                            if (glm::any(glm::lessThan(n, glm::ivec3(0))) ||
-                                glm::any(glm::greaterThanEqual(n, dims)))
-                                continue;
-                        }
-                        nearest = std::min(
-                            nearest, empty_shells[std::size_t(std::ptrdiff_t(c) + offset[k])]);
+            for (int yi = 0; yi < dims.y; ++yi) {
+                const int z = step > 0 ? zi : dims.z - 1 - zi;
+                const int y = step > 0 ? yi : dims.y - 1 - yi;
+                const auto row = [&](int ry, int rz) {
+                    return &empty_shells[cell_index(0, ry, rz)];
+                };
+                std::fill(nearest.begin(), nearest.end(), kFar);
+                const int before_y = y - step, before_z = z - step;
+                if (before_y >= 0 && before_y < dims.y) take_row(nearest.data(), row(before_y, z));
+                if (before_z >= 0 && before_z < dims.z)
+                    for (int ry = y - 1; ry <= y + 1; ++ry)
+                        if (ry >= 0 && ry < dims.y) take_row(nearest.data(), row(ry, before_z));
+                std::uint8_t* e = row(y, z);
+                std::uint8_t previous = kFar; // the cell before in the row, as updated
+                for (std::size_t xi = 0; xi < width; ++xi) {
+                    const std::size_t x = step > 0 ? xi : width - 1 - xi;
+                    if (e[x] != 0) {
+                        const std::uint8_t m = std::min(nearest[x], previous);
+                        if (m < kFar - 1) e[x] = std::min(e[x], std::uint8_t(m + 1));
                     }
-                    if (nearest < kFar - 1)
-                        empty_shells[c] = std::min(empty_shells[c], std::uint8_t(nearest + 1));
+                    previous = e[x];
                 }
+            }
     };
     pass(+1);
     pass(-1);

@@ -409,9 +409,9 @@ void fill_grid(BoxGrid& grid, const std::vector<Box>& boxes,
     const std::size_t cells =
         std::size_t(grid.dims.x) * std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
     grid.triangles.build(
-        cells,
-        [&](auto&& visit) {
-            for (std::size_t t = 0; t < boxes.size(); ++t)
+        cells, boxes.size(),
+        [&](std::size_t first, std::size_t last, auto&& visit) {
+            for (std::size_t t = first; t < last; ++t)
                 if (valid[t])
                     for_each_cell(grid, boxes[t],
                                   [&](glm::ivec3, std::size_t c) { visit(std::uint32_t(t), c); });

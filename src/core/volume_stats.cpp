@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "parallel.h"
 #include "volume_stats.h"
 
 namespace snert {
@@ -39,15 +40,31 @@ Histogram make_histogram(const Volume& volume, int bins, ValueRange range) {
     h.counts.assign(std::size_t(bins), 0);
     h.lo = range.min;
     h.hi = range.max;
-    const double span = double(h.hi) - double(h.lo);
-    for (float v : volume.samples) {
-        if (!std::isfinite(v)) continue;
-        std::size_t bin = 0;
-        if (span > 0.0)
-            bin = std::min(std::size_t(bins - 1),
-                           std::size_t((double(v) - double(h.lo)) / span * double(bins)));
-        ++h.counts[bin];
-    }
+    // Counted in parallel pieces, each with counts of its own, then summed: whole numbers, the
+    // same sums in any order. A clinical CT's 100 M samples took 150 ms on one thread. Fine
+    // histograms (more than 4096 bins) are counted in one piece, so the pieces' counts stay small.
+    const std::size_t samples = volume.samples.size();
+    const std::size_t piece = bins > 4096 ? std::max<std::size_t>(samples, 1)
+                                          : std::max<std::size_t>(samples / 16 + 1, 1 << 20);
+    std::vector<std::vector<std::uint64_t>> pieces(chunk_count(samples, piece));
+    for_each_chunk(samples, piece, [&](std::size_t p, std::size_t begin, std::size_t end) {
+        // Locals, not the caller's by reference: the counts' stores would make the compiler
+        // load those again for every sample.
+        const float* values = volume.samples.data();
+        const double lo = h.lo, span = double(h.hi) - double(h.lo), count = double(bins);
+        const std::size_t last = std::size_t(bins - 1);
+        pieces[p].assign(std::size_t(bins), 0);
+        std::uint64_t* counts = pieces[p].data();
+        for (std::size_t i = begin; i < end; ++i) {
+            const float v = values[i];
+            if (!std::isfinite(v)) continue;
+            std::size_t bin = 0;
+            if (span > 0.0) bin = std::min(last, std::size_t((double(v) - lo) / span * count));
+            ++counts[bin];
+        }
+    });
+    for (const std::vector<std::uint64_t>& counts : pieces)
+        for (std::size_t b = 0; b < counts.size(); ++b) h.counts[b] += counts[b];
     return h;
 }
 

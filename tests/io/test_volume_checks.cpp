@@ -3,11 +3,14 @@
 // the iso suggestion starts from.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "core/segmentation.h"
 #include "core/volume_stats.h"
 #include "io/load_volume.h"
@@ -128,4 +131,26 @@ TEST(Histogram, CountsAndTwoValuedOtsu) {
     // Two values: every split between them is equally good; Otsu takes the middle one.
     EXPECT_FLOAT_EQ(otsu_threshold(h), 60.0f);
     EXPECT_EQ(otsu_threshold(make_histogram(make_volume({2, 2, 2}, 7.0f))), 7.0f);
+}
+
+// A volume of several pieces (counted side by side on two threads): the counts one thread makes,
+// and each bin's count as a bin-by-bin check of the formula gives it.
+TEST(Histogram, TwoThreadsCountAsOne) {
+    Volume v = make_volume({160, 160, 160}, 0.0f);
+    for (std::size_t i = 0; i < v.samples.size(); ++i)
+        v.samples[i] = float((i * 2654435761u) % 1000) * 0.25f - 30.0f;
+    v.samples[12345] = std::numeric_limits<float>::infinity();
+    std::vector<std::uint64_t> expected(256, 0);
+    const ValueRange range = value_range(v);
+    for (const float s : v.samples)
+        if (std::isfinite(s))
+            ++expected[std::min<std::size_t>(
+                255, std::size_t((double(s) - double(range.min)) /
+                                 (double(range.max) - double(range.min)) * 256.0))];
+    for (const unsigned threads : {1u, 2u}) {
+        const ThreadLimit limit(threads);
+        const Histogram h = make_histogram(v, 256, range);
+        EXPECT_EQ(h.counts, expected) << threads << " threads";
+        EXPECT_EQ(h.total(), v.samples.size() - 1);
+    }
 }
