@@ -8,6 +8,7 @@
 // thread, then each sorted: the same lists whatever the thread count.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cstddef>
@@ -74,7 +75,7 @@ class CellLists {
         const std::size_t lists = start_.size() - 1;
         for_each_chunk(lists, kChunk, [&](std::size_t, std::size_t first, std::size_t last) {
             for (std::size_t r = first; r < last; ++r)
-                sort_small(items_.data() + start_[r], items_.data() + start_[r + 1]);
+                sort_list(items_.data() + start_[r], items_.data() + start_[r + 1]);
         });
     }
 
@@ -110,8 +111,13 @@ class CellLists {
         start_.assign(occupied_cells + 2, 0);
     }
 
-    // Insertion sort: the lists hold a few items.
-    static void sort_small(std::uint32_t* first, std::uint32_t* last) {
+    // Insertion sort for the few items a list mostly holds; std::sort for a long one (a mesh of
+    // tiny triangles beside a few large ones has cells of many), which would be quadratic so.
+    static void sort_list(std::uint32_t* first, std::uint32_t* last) {
+        if (last - first > 32) {
+            std::sort(first, last);
+            return;
+        }
         for (std::uint32_t* i = first + (first != last ? 1 : 0); i < last; ++i) {
             const std::uint32_t item = *i;
             std::uint32_t* j = i;
