@@ -932,8 +932,7 @@ void MeshDistance::Impl::compute_empty_shells() {
     cell_triangles.for_each_occupied([&](std::size_t c) { empty_shells[c] = 0; });
     const std::size_t width = std::size_t(dims.x);
     std::vector<std::uint8_t> nearest(width);
-    // nearest[x] = min(nearest[x], row[x - 1], row[x], row[x + 1]), within the row.
-    // In blocks of 16: loops of a known length, which GCC vectorises at -O2.
+    // m[x] = min(m[x], r[x]) in blocks of 16: loops of a known length, which GCC vectorises at -O2.
     const auto min_into = [](std::uint8_t* __restrict m, const std::uint8_t* __restrict r,
                              std::size_t n) {
         constexpr std::size_t kBlock = 16;
@@ -942,6 +941,7 @@ void MeshDistance::Impl::compute_empty_shells() {
             for (std::size_t k = 0; k < kBlock; ++k) m[x + k] = std::min(m[x + k], r[x + k]);
         for (; x < n; ++x) m[x] = std::min(m[x], r[x]);
     };
+    // m[x] = min(m[x], row[x - 1], row[x], row[x + 1]), within the row.
     const auto take_row = [&](std::uint8_t* m, const std::uint8_t* row) {
         min_into(m, row, width);
         min_into(m + 1, row, width - 1);
