@@ -104,6 +104,10 @@ App::App(AppOptions options)
 
 App::~App() = default;
 
+void App::warm_up() {
+    views_->warm_up();
+}
+
 bool App::slice_view_shown() const {
     return slice_view_;
 }
@@ -793,6 +797,7 @@ bool App::animating() const {
 double App::frame_interval() const {
     const bool frame_due =
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
+    if (views_->has_pending_work()) return kSendingFrame;
     if (worker_->has_messages() || playing_ || frame_due || views_->drawing_parts() ||
         !requested_once_ || results_.generation != worker_->latest_generation() ||
         notice_timer_ > 0 || screenshot_pending_)

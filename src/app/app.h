@@ -147,6 +147,9 @@ class App {
     // May draw into the app's offscreen view targets; the glue binds its own framebuffer
     // before rendering ImGui's draw data.
     void frame();
+    // Before the first frame (the window's glue): the views' shaders compiled by one small draw
+    // of each kind (ViewRenderer::warm_up), so that no frame carries it.
+    void warm_up();
 
     // --- Actions (menus, buttons, shortcuts, drag-and-drop and tests all come here) ---
     // Opens `spec` (restarts the computation at the next frame). Should it fail to load, the
@@ -236,7 +239,11 @@ class App {
     // kAnimatingFrame while something moves on screen, kProgressFrame while only the worker's
     // progress bar does (its results wake the loop through AppOptions::wake), kIdleFrame
     // otherwise. Software GL draws the window with the processor the worker computes with.
+    // While a view's new buffers are sent (a part a frame) or wait to be drawn
+    // (ViewRenderer::has_pending_work), kSendingFrame: the frames follow one another, and the new
+    // mesh is shown a few frames' work later.
     static constexpr double kAnimatingFrame = 1.0 / 15, kProgressFrame = 1.0 / 5, kIdleFrame = 0.5;
+    static constexpr double kSendingFrame = 0.0;
     double frame_interval() const;
     // The rectangle a named widget had in the last frame ("step_forward", "step_back",
     // "play", "iteration_slider", "run_to_convergence", "views", "iso_slider", ...).

@@ -70,7 +70,8 @@ void StatsSession::after_frame(const App& app, double frame_ms) {
     case Phase::Computing:
         computing_frames_ms_.push_back(frame_ms);
         if (load_s_ < 0 && r.source_current) load_s_ = since_start(now);
-        if (mc_shown_s_ < 0 && r.mc && r.mc_current) mc_shown_s_ = since_start(now);
+        if (mc_shown_s_ < 0 && r.mc && r.mc_current && app.view_renderer().shows_mesh(0))
+            mc_shown_s_ = since_start(now);
         if (curves_s_ < 0 && r.finished) curves_s_ = since_start(now);
         if (done_s_ < 0 && comparison_shown(app)) {
             done_s_ = since_start(now);

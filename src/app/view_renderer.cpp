@@ -38,12 +38,21 @@ void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
         slot && mesh && mesh->geometry != 0 && slot->geometry == mesh->geometry;
     const std::shared_ptr<const DisplayMesh> previous = std::exchange(slot, std::move(mesh));
     if (same_geometry) return;
-    if (!slot)
-        views_[v] = render::MeshView();
-    else if (!previous ||
-             !views_[v].update(slot->mesh, previous->mesh.indices, values(view), slot->normals))
-        views_[v].upload(slot->mesh, values(view), slot->normals);
     dirty_[v] = true;
+    // Until its last part is sent, the GPU does not hold the previous mesh.
+    const bool uploading = next_part_[v] != kNoUpload;
+    next_part_[v] = kNoUpload;
+    if (!slot) {
+        views_[v] = render::MeshView();
+    } else if (uploading || !previous ||
+               !views_[v].update(slot->mesh, previous->mesh.indices, values(view), slot->normals)) {
+        previews_[v] = nullptr; // new buffers hold no preview
+        if (slot->mesh.triangle_count() > kStagedUploadTriangles) {
+            next_part_[v] = 0; // sent by the next render()s, one part each
+            return;
+        }
+        views_[v].upload(slot->mesh, values(view), slot->normals);
+    }
     upload_preview(v);
 }
 
@@ -63,10 +72,13 @@ std::span<const float> ViewRenderer::values(int view) const {
 
 void ViewRenderer::upload_values(std::size_t v) {
     const auto& mesh = meshes_[v];
-    if (!mesh) return;
+    // A mesh still being sent takes the values shown when its quality goes (the last part).
+    if (!mesh || next_part_[v] != kNoUpload) return;
     // The same mesh: only the per-triangle values change (indices are compared, none sent).
-    if (!views_[v].update(mesh->mesh, mesh->mesh.indices, values(int(v)), mesh->normals))
+    if (!views_[v].update(mesh->mesh, mesh->mesh.indices, values(int(v)), mesh->normals)) {
         views_[v].upload(mesh->mesh, values(int(v)), mesh->normals);
+        previews_[v] = nullptr;
+    }
     upload_preview(v);
     dirty_[v] = true;
 }
@@ -118,8 +130,59 @@ std::optional<Bounds> ViewRenderer::bounds() const {
     return std::nullopt;
 }
 
+void ViewRenderer::warm_up() {
+    Mesh mesh; // a tetrahedron
+    mesh.positions = {
+        {0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+    mesh.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    render::MeshView view;
+    view.upload(mesh);
+    const std::uint32_t preview[] = {0, 2, 1};
+    const float preview_quality[] = {1.0f};
+    view.set_preview(preview, preview_quality);
+    constexpr int kSize = 16;
+    const render::RenderTarget target(kSize, kSize, kSamples);
+    const render::Viewport viewport{0, 0, kSize, kSize};
+    const render::OrbitCamera camera =
+        render::frame_bounds(mesh_bounds(mesh), render::ViewPreset::Front, 1.0f);
+    render::DrawStyle style;
+    renderer_.draw_background(viewport, style);
+    for (const bool wireframe : {false, true}) {
+        style.wireframe = wireframe;
+        renderer_.draw(view, camera, viewport, style, false);
+        renderer_.draw(view, camera, viewport, style, true);
+        renderer_.draw_part(view, camera, viewport, style, 1, 2);
+    }
+    target.resolve();
+    glFinish();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// One part of a large mesh's new buffers: that is the render's work. The view is drawn by the
+// render after its last part.
+bool ViewRenderer::send_next_part() {
+    for (std::size_t v = 0; v < kViews; ++v) {
+        if (next_part_[v] == kNoUpload) continue;
+        const DisplayMesh& mesh = *meshes_[v];
+        const int part = next_part_[v]++;
+        views_[v].upload_part(part, mesh.mesh,
+                              part == render::MeshView::kUploadParts - 1 ? values(int(v))
+                                                                         : std::span<const float>(),
+                              mesh.normals);
+        if (next_part_[v] == render::MeshView::kUploadParts) {
+            next_part_[v] = kNoUpload;
+            upload_preview(v);
+        }
+        return true;
+    }
+    return false;
+}
+
 void ViewRenderer::render(int width, int height, const render::OrbitCamera& camera,
                           const render::DrawStyle& style) {
+    // Once the views have pictures (their targets are made): until then a part would leave them
+    // without one.
+    if (targets_[0] && targets_[1] && send_next_part()) return;
     width = std::max(width, 1);
     height = std::max(height, 1);
     const bool moving = !same_camera(camera, last_camera_);
@@ -127,7 +190,7 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
     for (std::size_t i = 0; i < kViews; ++i) {
         auto& target = targets_[i];
         if (!target || target->width() != width || target->height() != height) {
-            target = std::make_unique<render::RenderTarget>(width, height, 4);
+            target = std::make_unique<render::RenderTarget>(width, height, kSamples);
             parts_[i].reset();
             all = true;
         }
@@ -145,15 +208,18 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
             drawing_parts_[i] = false; // what it held shows what changed
             const bool preview = views_[i].has_preview() && (moving || rapid || large);
             draw_whole(i, viewport, camera, style, preview);
-            if (preview && large && !moving && !rapid) start_parts(i, viewport, style);
+            parts_due_[i] = preview && large && !moving && !rapid;
             drew = true;
-        } else if (refine_[i] && !drawing_parts_[i] && now - last_change_[i] >= quiet_[i]) {
-            if (large) {
+        } else if (refine_[i] && !drawing_parts_[i] &&
+                   (parts_due_[i] || now - last_change_[i] >= quiet_[i])) {
+            // Starting the parts clears the second target (made anew the first time): no part
+            // is drawn in the same render.
+            if (large)
                 start_parts(i, viewport, style);
-            } else {
+            else
                 draw_whole(i, viewport, camera, style, false);
-                drew = true;
-            }
+            parts_due_[i] = false;
+            drew = true;
         }
     }
     // At most one part a frame, and none in a frame that drew anything else: the UI thread's
@@ -188,7 +254,8 @@ void ViewRenderer::draw_whole(std::size_t i, const render::Viewport& viewport,
 void ViewRenderer::start_parts(std::size_t i, const render::Viewport& viewport,
                                const render::DrawStyle& style) {
     auto& parts = parts_[i];
-    if (!parts) parts = std::make_unique<render::RenderTarget>(viewport.width, viewport.height, 4);
+    if (!parts)
+        parts = std::make_unique<render::RenderTarget>(viewport.width, viewport.height, kSamples);
     parts->bind();
     renderer_.draw_background(viewport, style);
     parts_drawn_[i] = 0;

@@ -27,7 +27,7 @@ class ViewRenderer {
     // last part cost) is drawn in parts over several frames into a second target, shown when
     // complete, with its preview shown meanwhile.
     static constexpr double kPartBudgetMs = 12.0;
-    static constexpr std::size_t kFirstPartTriangles = std::size_t(1) << 15;
+    static constexpr std::size_t kFirstPartTriangles = std::size_t(1) << 13;
     static constexpr std::size_t kMinPartTriangles = std::size_t(1) << 12;
     static constexpr std::size_t kMaxPartTriangles = std::size_t(1) << 26;
     // A view's new mesh that cut its parts short (the relaxation playing faster than a clinical
@@ -35,15 +35,31 @@ class ViewRenderer {
     // to kLongestQuiet; a finished picture brings it back to kQuiet. The parts cut short were
     // drawn for nothing, and they took the processor from the worker.
     static constexpr std::chrono::milliseconds kLongestQuiet{3200};
+    static constexpr int kSamples = 4; // multisampling of the views' targets
+    // Above this many triangles (about 4 MB of buffers, 20 ms of llvmpipe's) a mesh's new
+    // buffers are sent over four renders.
+    static constexpr std::size_t kStagedUploadTriangles = std::size_t(1) << 17;
 
     ViewRenderer();
     ~ViewRenderer();
 
+    // Draws a small mesh once in every way a view draws one (backdrop, mesh, wireframe, preview,
+    // part, resolve) into a small target. Software GL compiles a shader's code at the first draw
+    // that needs it: done here, before the window's first frame, that frame does not carry it.
+    void warm_up();
+
     // Uploads a view's mesh when it is a different one (null clears the view): nothing for the
     // same geometry (a frame's measured version), positions, normals and quality only for the
-    // same topology (another iteration), everything otherwise.
+    // same topology (another iteration), everything otherwise. A mesh of more than
+    // kStagedUploadTriangles gets its new buffers from the next render()s, one part each
+    // (MeshView::upload_part), and is drawn after; its view keeps its last picture meanwhile.
     void set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh);
     bool has_mesh(int view) const { return meshes_[std::size_t(view)] != nullptr; }
+    // The view's picture shows its mesh (whole or its preview): sent and drawn since set_mesh.
+    bool shows_mesh(int view) const {
+        const auto v = std::size_t(view);
+        return meshes_[v] && next_part_[v] == kNoUpload && !dirty_[v];
+    }
     // What the camera frames: the bounds of Marching Cubes' mesh, else of the net's; nullopt
     // when there is none.
     std::optional<Bounds> bounds() const;
@@ -65,10 +81,18 @@ class ViewRenderer {
     // quick succession (the relaxation playing), a mesh with a preview is drawn as its preview;
     // once nothing changed for kQuiet, the whole mesh is drawn again. A mesh too large for one
     // frame shows its preview until its parts, one a frame, are all drawn.
+    // Each render() does one of the costly things only (with software GL each takes a good part
+    // of a frame): a part of a large mesh's new buffers, the views' drawing, starting a view's
+    // parts (its second target cleared, made the first time), or one part.
     void render(int width, int height, const render::OrbitCamera& camera,
                 const render::DrawStyle& style);
-    // A view shows its preview: later render()s draw the whole mesh even if nothing moved.
-    bool needs_refine() const { return refine_[0] || refine_[1]; }
+    // A view does not show its whole mesh yet (it shows the preview, or its mesh is still being
+    // sent): later render()s draw it even if nothing moves.
+    bool needs_refine() const { return refine_[0] || refine_[1] || sending(); }
+    // True while a view's new buffers are sent, a part a render.
+    bool sending() const { return next_part_[0] != kNoUpload || next_part_[1] != kNoUpload; }
+    // The next render() has work: a part to send, or a view whose mesh changed to draw.
+    bool has_pending_work() const { return sending() || dirty_[0] || dirty_[1]; }
     // True while a view's whole mesh is being drawn in parts, a part a frame.
     bool drawing_parts() const { return drawing_parts_[0] || drawing_parts_[1]; }
     // Triangles a part holds now (tests; it adapts to the time parts take).
@@ -90,6 +114,7 @@ class ViewRenderer {
     }
 
   private:
+    bool send_next_part();
     void upload_preview(std::size_t view);
     void upload_values(std::size_t view); // the same mesh, the values of another measure
     void draw_whole(std::size_t view, const render::Viewport& viewport,
@@ -108,6 +133,11 @@ class ViewRenderer {
     std::array<bool, kViews> refine_{false, false};                   // drawn as the preview
     std::array<std::unique_ptr<render::RenderTarget>, kViews> parts_; // the whole mesh, in parts
     std::array<bool, kViews> drawing_parts_{false, false};
+    std::array<bool, kViews> parts_due_{false, false}; // start the parts at the next render()
+    // The next part of a view's new buffers that render() sends (MeshView::upload_part), or
+    // kNoUpload.
+    static constexpr int kNoUpload = -1;
+    std::array<int, kViews> next_part_{kNoUpload, kNoUpload};
     std::array<std::size_t, kViews> parts_drawn_{}; // triangles drawn into parts_
     std::size_t part_triangles_ = kFirstPartTriangles;
     std::array<std::chrono::steady_clock::time_point, kViews> last_change_{};

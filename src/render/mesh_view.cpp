@@ -154,6 +154,7 @@ void upload_quality(GLuint buffer, GLuint texture, std::span<const float> qualit
 
 void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
                       std::span<const glm::vec3> normals) {
+    // Everything checked before anything is sent: a mesh that throws leaves the view as it was.
     if (mesh.indices.size() % 3 != 0)
         throw std::invalid_argument("mesh index count is not a multiple of 3");
     check_indices(mesh.indices, mesh.positions.size());
@@ -161,7 +162,11 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
     quality = quality_of(mesh, quality, computed_quality);
     std::vector<glm::vec3> computed_normals;
     normals = normals_of(mesh, normals, computed_normals);
+    for (int part = 0; part < kUploadParts; ++part) upload_part(part, mesh, quality, normals);
+}
 
+void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> quality,
+                           std::span<const glm::vec3> normals) {
     if (vertex_array_ == 0) {
         glGenVertexArrays(1, &vertex_array_);
         glGenBuffers(1, &position_buffer_);
@@ -172,31 +177,54 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
     }
     // Positions and normals in buffers of their own: a relaxation step replaces both straight
     // from the mesh's arrays. DYNAMIC: they may be updated many times.
-    const std::span<const glm::vec3> positions = mesh.positions;
-    glBindVertexArray(vertex_array_);
-    glBindBuffer(GL_ARRAY_BUFFER, position_buffer_);
-    glBufferData(GL_ARRAY_BUFFER, bytes(positions), positions.data(), GL_DYNAMIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
-    glBindBuffer(GL_ARRAY_BUFFER, normal_buffer_);
-    glBufferData(GL_ARRAY_BUFFER, bytes(normals), normals.data(), GL_DYNAMIC_DRAW);
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
-    const std::span<const std::uint32_t> indices = mesh.indices;
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(indices), indices.data(), GL_DYNAMIC_DRAW);
-    glBindVertexArray(0);
-
-    upload_quality(quality_buffer_, quality_texture_, quality);
+    const auto send_vertices = [&](GLuint buffer, GLuint attribute,
+                                   std::span<const glm::vec3> values) {
+        glBindVertexArray(vertex_array_);
+        glBindBuffer(GL_ARRAY_BUFFER, buffer);
+        glBufferData(GL_ARRAY_BUFFER, bytes(values), values.data(), GL_DYNAMIC_DRAW);
+        glEnableVertexAttribArray(attribute);
+        glVertexAttribPointer(attribute, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+        glBindVertexArray(0);
+        counters_.vertex_bytes += std::size_t(bytes(values));
+    };
+    switch (part) {
+    case 0: {
+        if (mesh.indices.size() % 3 != 0)
+            throw std::invalid_argument("mesh index count is not a multiple of 3");
+        triangles_ = vertices_ = preview_triangles_ = 0; // nothing to draw until complete
+        send_vertices(position_buffer_, 0, mesh.positions);
+        break;
+    }
+    case 1: {
+        std::vector<glm::vec3> computed;
+        send_vertices(normal_buffer_, 1, normals_of(mesh, normals, computed));
+        break;
+    }
+    case 2: {
+        const std::span<const std::uint32_t> indices = mesh.indices;
+        check_indices(indices, mesh.positions.size());
+        glBindVertexArray(vertex_array_);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(indices), indices.data(), GL_DYNAMIC_DRAW);
+        glBindVertexArray(0);
+        counters_.index_bytes += std::size_t(bytes(indices));
+        break;
+    }
+    case 3: {
+        std::vector<float> computed;
+        quality = quality_of(mesh, quality, computed);
+        upload_quality(quality_buffer_, quality_texture_, quality);
+        counters_.quality_bytes += std::size_t(bytes(quality));
+        triangles_ = mesh.triangle_count();
+        vertices_ = mesh.positions.size();
+        bounds_ = mesh_bounds(mesh);
+        ++counters_.uploads;
+        break;
+    }
+    default:
+        throw std::invalid_argument("MeshView::upload_part: no part " + std::to_string(part));
+    }
     check_gl("MeshView::upload");
-
-    triangles_ = mesh.triangle_count();
-    vertices_ = mesh.positions.size();
-    bounds_ = mesh_bounds(mesh);
-    ++counters_.uploads;
-    counters_.vertex_bytes += std::size_t(bytes(positions) + bytes(normals));
-    counters_.index_bytes += std::size_t(bytes(indices));
-    counters_.quality_bytes += std::size_t(bytes(quality));
 }
 
 bool MeshView::update(const Mesh& mesh, std::span<const std::uint32_t> previous_indices,

@@ -84,6 +84,14 @@ class MeshView {
     // `normals` (one per vertex, as vertex_normals makes them) are computed here when empty.
     void upload(const Mesh& mesh, std::span<const float> quality = {},
                 std::span<const glm::vec3> normals = {});
+    // upload() one array a call, for a software GL whose new storage is slow to make (llvmpipe
+    // clears it as it makes it: about 5 ms a MB on a small VM), so that each frame sends one:
+    // part 0 the positions, 1 the normals, 2 the indices, 3 the quality, with the same mesh each
+    // time. From part 0 the view is empty (draws nothing, no preview) until part 3 completes it.
+    // Each part checks what it sends and throws std::invalid_argument as upload() does.
+    static constexpr int kUploadParts = 4;
+    void upload_part(int part, const Mesh& mesh, std::span<const float> quality = {},
+                     std::span<const glm::vec3> normals = {});
     // The same topology with new positions (a relaxation step): `mesh` has the vertex and
     // triangle counts of the mesh uploaded last, whose indices are `previous_indices`. Sends the
     // positions, normals and quality, and of the indices only the blocks that changed (none

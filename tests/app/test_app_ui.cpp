@@ -884,8 +884,9 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     const auto first_change = std::chrono::steady_clock::now();
     views.render(200, 150, camera, style); // the preview
     std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
-    views.render(200, 150, camera, style); // the first part
+    views.render(200, 150, camera, style); // the parts start (no part in that render)
     ASSERT_TRUE(views.needs_refine());
+    ASSERT_TRUE(views.drawing_parts());
     auto moved = std::make_shared<DisplayMesh>(*mesh);
     moved->geometry = 2;
     views.set_mesh(0, moved);
@@ -910,6 +911,55 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     EXPECT_GT(views.part_draws(), parts_before);
     EXPECT_EQ(views.quiet(0), ViewRenderer::kQuiet); // a finished picture: back to the short wait
     EXPECT_TRUE(view_pixels(views, 0, 200, 150) == one);
+    h->frame(); // the app's own target is bound again for its frame
+}
+
+// A mesh of more than kStagedUploadTriangles gets its new buffers over four renders, a part
+// each, which draw nothing (the view keeps its picture); the render after draws it. Another
+// mesh while the parts go starts them again: the GPU holds neither mesh whole.
+TEST(AppViews, LargeMeshSentInPartsBeforeItIsDrawn) {
+    auto h = make_app(1); // for its GL context
+    ASSERT_TRUE(h->run_until(settled));
+    const Phantom phantom = make_phantom("sphere", 200);
+    auto mesh = std::make_shared<DisplayMesh>();
+    mesh->mesh = marching_cubes(phantom.volume, {phantom.iso, InsideIs::Above});
+    ASSERT_GT(mesh->mesh.triangle_count(), ViewRenderer::kStagedUploadTriangles);
+    mesh->measure_triangles();
+    mesh->normals = render::vertex_normals(mesh->mesh);
+    mesh->geometry = 1;
+    const render::OrbitCamera camera =
+        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    const render::DrawStyle style;
+    ViewRenderer views;
+    views.render(200, 150, camera, style); // the backdrop
+    const std::vector<std::uint8_t> backdrop = view_pixels(views, 0, 200, 150);
+    const int renders = views.render_count(), draws = views.view_draws(0);
+
+    // Sends the parts; true when each render sent one and drew nothing.
+    const auto send_parts = [&] {
+        bool quiet = true;
+        for (int part = 0; part < render::MeshView::kUploadParts; ++part) {
+            quiet = quiet && views.sending() && views.needs_refine();
+            views.render(200, 150, camera, style);
+            quiet = quiet && views.render_count() == renders &&
+                    view_pixels(views, 0, 200, 150) == backdrop;
+        }
+        return quiet;
+    };
+    views.set_mesh(0, mesh);
+    EXPECT_EQ(views.uploads(0).uploads, 0);
+    views.render(200, 150, camera, style); // part 0
+    auto other = std::make_shared<DisplayMesh>(*mesh);
+    other->geometry = 2; // the same topology, but the GPU holds only a part of the first
+    views.set_mesh(0, other);
+    EXPECT_TRUE(send_parts());
+    EXPECT_FALSE(views.sending());
+    EXPECT_EQ(views.uploads(0).uploads, 1);
+    EXPECT_EQ(views.view_draws(0), draws);
+    views.render(200, 150, camera, style);
+    EXPECT_EQ(views.view_draws(0), draws + 1);
+    EXPECT_FALSE(views.needs_refine());
+    EXPECT_FALSE(view_pixels(views, 0, 200, 150) == backdrop) << "the sphere is drawn";
     h->frame(); // the app's own target is bound again for its frame
 }
 

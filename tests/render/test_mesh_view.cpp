@@ -60,6 +60,50 @@ TEST_F(MeshViewTest, UploadRejectsBadIndicesAndQualityCounts) {
     EXPECT_EQ(view.bounds().max, glm::vec3(1, 1, 0));
 }
 
+// Sent one part at a time (a part a frame in the app), the mesh draws nothing until the last
+// part, then the picture of upload() in one call; a bad part throws.
+TEST_F(MeshViewTest, UploadInPartsDrawsNothingUntilCompleteThenAsOneUpload) {
+    RenderTarget target(32, 32, 1);
+    MeshRenderer renderer;
+    const Mesh mesh = square();
+    const std::vector<float> quality = {0.0f, 1.0f};
+    DrawStyle style;
+    style.shading = Shading::Quality;
+    const Viewport all{0, 0, 32, 32};
+    const auto picture = [&](const MeshView& view) {
+        renderer.draw_background(all, style);
+        renderer.draw(view, camera_on_z(mesh), all, style);
+        return target.read();
+    };
+    MeshView whole;
+    whole.upload(mesh, quality);
+    const Image expected = picture(whole);
+    MeshView empty;
+    const Image backdrop = picture(empty);
+    ASSERT_NE(expected.rgba, backdrop.rgba);
+
+    MeshView parts;
+    parts.upload(test::square(2.0f)); // another mesh first: the parts replace it
+    for (int part = 0; part < MeshView::kUploadParts; ++part) {
+        EXPECT_EQ(parts.counters().uploads, 1) << part;
+        parts.upload_part(part, mesh, quality);
+        if (part + 1 < MeshView::kUploadParts) {
+            EXPECT_TRUE(parts.empty()) << part;
+            EXPECT_EQ(picture(parts).rgba, backdrop.rgba) << "drawn after part " << part;
+        }
+    }
+    EXPECT_EQ(parts.triangle_count(), 2u);
+    EXPECT_EQ(parts.counters().uploads, 2);
+    EXPECT_EQ(picture(parts).rgba, expected.rgba);
+
+    const std::vector<float> one = {0.5f};
+    EXPECT_THROW(parts.upload_part(3, mesh, one), std::invalid_argument);
+    Mesh bad = mesh;
+    bad.indices.back() = 4;
+    EXPECT_THROW(parts.upload_part(2, bad), std::invalid_argument);
+    EXPECT_THROW(parts.upload_part(MeshView::kUploadParts, mesh), std::invalid_argument);
+}
+
 TEST_F(MeshViewTest, FlatShadingLightsTheMeshOverTheBackdrop) {
     RenderTarget target(64, 64, 1);
     MeshRenderer renderer;
