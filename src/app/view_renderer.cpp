@@ -164,12 +164,12 @@ bool ViewRenderer::send_next_part() {
     for (std::size_t v = 0; v < kViews; ++v) {
         if (next_part_[v] == kNoUpload) continue;
         const DisplayMesh& mesh = *meshes_[v];
-        const int part = next_part_[v]++;
+        const int part = next_part_[v]++, parts = render::MeshView::upload_parts(mesh.mesh);
+        // The quality goes last: the values shown then.
         views_[v].upload_part(part, mesh.mesh,
-                              part == render::MeshView::kUploadParts - 1 ? values(int(v))
-                                                                         : std::span<const float>(),
+                              part == parts - 1 ? values(int(v)) : std::span<const float>(),
                               mesh.normals);
-        if (next_part_[v] == render::MeshView::kUploadParts) {
+        if (next_part_[v] == parts) {
             next_part_[v] = kNoUpload;
             upload_preview(v);
         }

@@ -37,7 +37,7 @@ class ViewRenderer {
     static constexpr std::chrono::milliseconds kLongestQuiet{3200};
     static constexpr int kSamples = 4; // multisampling of the views' targets
     // Above this many triangles (about 4 MB of buffers, 20 ms of llvmpipe's) a mesh's new
-    // buffers are sent over four renders.
+    // buffers are sent over several renders (MeshView::upload_parts).
     static constexpr std::size_t kStagedUploadTriangles = std::size_t(1) << 17;
 
     ViewRenderer();

@@ -64,7 +64,7 @@ MeshView& MeshView::operator=(MeshView&& other) noexcept {
         vertex_array_ = std::exchange(other.vertex_array_, 0);
         position_buffer_ = std::exchange(other.position_buffer_, 0);
         normal_buffer_ = std::exchange(other.normal_buffer_, 0);
-        index_buffer_ = std::exchange(other.index_buffer_, 0);
+        index_buffers_ = std::exchange(other.index_buffers_, {});
         quality_buffer_ = std::exchange(other.quality_buffer_, 0);
         quality_texture_ = std::exchange(other.quality_texture_, 0);
         preview_index_buffer_ = std::exchange(other.preview_index_buffer_, 0);
@@ -88,11 +88,12 @@ void MeshView::release() {
     preview_triangles_ = 0;
     glDeleteTextures(1, &quality_texture_);
     glDeleteBuffers(1, &quality_buffer_);
-    glDeleteBuffers(1, &index_buffer_);
+    glDeleteBuffers(GLsizei(index_buffers_.size()), index_buffers_.data());
+    index_buffers_.clear();
     glDeleteBuffers(1, &normal_buffer_);
     glDeleteBuffers(1, &position_buffer_);
     glDeleteVertexArrays(1, &vertex_array_);
-    vertex_array_ = position_buffer_ = normal_buffer_ = index_buffer_ = 0;
+    vertex_array_ = position_buffer_ = normal_buffer_ = 0;
     quality_buffer_ = quality_texture_ = 0;
     triangles_ = vertices_ = 0;
 }
@@ -162,7 +163,21 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
     quality = quality_of(mesh, quality, computed_quality);
     std::vector<glm::vec3> computed_normals;
     normals = normals_of(mesh, normals, computed_normals);
-    for (int part = 0; part < kUploadParts; ++part) upload_part(part, mesh, quality, normals);
+    for (int part = 0, parts = upload_parts(mesh); part < parts; ++part)
+        upload_part(part, mesh, quality, normals);
+}
+
+namespace {
+
+std::size_t index_blocks(std::size_t triangles) {
+    return std::max<std::size_t>(1, (triangles + MeshView::kIndexBlockTriangles - 1) /
+                                        MeshView::kIndexBlockTriangles);
+}
+
+} // namespace
+
+int MeshView::upload_parts(const Mesh& mesh) {
+    return 3 + int(index_blocks(mesh.triangle_count()));
 }
 
 void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> quality,
@@ -171,7 +186,6 @@ void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> qu
         glGenVertexArrays(1, &vertex_array_);
         glGenBuffers(1, &position_buffer_);
         glGenBuffers(1, &normal_buffer_);
-        glGenBuffers(1, &index_buffer_);
         glGenBuffers(1, &quality_buffer_);
         glGenTextures(1, &quality_texture_);
     }
@@ -187,30 +201,37 @@ void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> qu
         glBindVertexArray(0);
         counters_.vertex_bytes += std::size_t(bytes(values));
     };
-    switch (part) {
-    case 0: {
+    const std::size_t blocks = index_blocks(mesh.triangle_count());
+    const int quality_part = 2 + int(blocks);
+    if (part < 0 || part > quality_part)
+        throw std::invalid_argument("MeshView::upload_part: no part " + std::to_string(part));
+    if (part == 0) {
         if (mesh.indices.size() % 3 != 0)
             throw std::invalid_argument("mesh index count is not a multiple of 3");
         triangles_ = vertices_ = preview_triangles_ = 0; // nothing to draw until complete
         send_vertices(position_buffer_, 0, mesh.positions);
-        break;
-    }
-    case 1: {
+    } else if (part == 1) {
         std::vector<glm::vec3> computed;
         send_vertices(normal_buffer_, 1, normals_of(mesh, normals, computed));
-        break;
-    }
-    case 2: {
-        const std::span<const std::uint32_t> indices = mesh.indices;
+    } else if (part < quality_part) {
+        const std::size_t block = std::size_t(part - 2), size = 3 * kIndexBlockTriangles;
+        const std::size_t first = std::min(block * size, mesh.indices.size());
+        const std::span<const std::uint32_t> indices =
+            std::span<const std::uint32_t>(mesh.indices)
+                .subspan(first, std::min(size, mesh.indices.size() - first));
         check_indices(indices, mesh.positions.size());
-        glBindVertexArray(vertex_array_);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(indices), indices.data(), GL_DYNAMIC_DRAW);
-        glBindVertexArray(0);
+        if (index_buffers_.size() != blocks) {
+            glDeleteBuffers(GLsizei(index_buffers_.size()), index_buffers_.data());
+            index_buffers_.assign(blocks, 0);
+            glGenBuffers(GLsizei(blocks), index_buffers_.data());
+        }
+        // Through a neutral target: the element binding belongs to the vertex array, and the
+        // draws bind each block there.
+        glBindBuffer(GL_COPY_WRITE_BUFFER, index_buffers_[block]);
+        glBufferData(GL_COPY_WRITE_BUFFER, bytes(indices), indices.data(), GL_DYNAMIC_DRAW);
+        glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
         counters_.index_bytes += std::size_t(bytes(indices));
-        break;
-    }
-    case 3: {
+    } else {
         std::vector<float> computed;
         quality = quality_of(mesh, quality, computed);
         upload_quality(quality_buffer_, quality_texture_, quality);
@@ -219,10 +240,6 @@ void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> qu
         vertices_ = mesh.positions.size();
         bounds_ = mesh_bounds(mesh);
         ++counters_.uploads;
-        break;
-    }
-    default:
-        throw std::invalid_argument("MeshView::upload_part: no part " + std::to_string(part));
     }
     check_gl("MeshView::upload");
 }
@@ -260,16 +277,22 @@ bool MeshView::update(const Mesh& mesh, std::span<const std::uint32_t> previous_
     glBufferSubData(GL_ARRAY_BUFFER, 0, bytes(normals), normals.data());
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     std::size_t index_bytes = 0;
-    if (!runs.empty()) {
-        glBindVertexArray(vertex_array_);
-        for (const auto& [b, e] : runs) {
-            const std::span<const std::uint32_t> run = indices.subspan(b, e - b);
-            glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, GLintptr(b * sizeof(std::uint32_t)),
+    constexpr std::size_t kBlockIndices = 3 * kIndexBlockTriangles;
+    for (auto [b, e] : runs) {
+        // A run may cross from one block's buffer into the next.
+        while (b < e) {
+            const std::size_t block = b / kBlockIndices;
+            const std::size_t end = std::min(e, (block + 1) * kBlockIndices);
+            const std::span<const std::uint32_t> run = indices.subspan(b, end - b);
+            glBindBuffer(GL_COPY_WRITE_BUFFER, index_buffers_[block]);
+            glBufferSubData(GL_COPY_WRITE_BUFFER,
+                            GLintptr((b - block * kBlockIndices) * sizeof(std::uint32_t)),
                             bytes(run), run.data());
             index_bytes += std::size_t(bytes(run));
+            b = end;
         }
-        glBindVertexArray(0);
     }
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
     if (!quality.empty()) {
         glBindBuffer(GL_TEXTURE_BUFFER, quality_buffer_);
         glBufferSubData(GL_TEXTURE_BUFFER, 0, bytes(quality), quality.data());
@@ -448,7 +471,6 @@ void MeshRenderer::draw_triangles(const MeshView& mesh, const OrbitCamera& camer
     glUniform1i(p.uniform("wireframe"), style.wireframe ? 1 : 0);
     glUniform1f(p.uniform("line_half_width"), 0.5f * style.line_width);
     glUniform3fv(p.uniform("line_color"), 1, glm::value_ptr(style.line_color));
-    glUniform1i(p.uniform("first_triangle"), preview ? 0 : GLint(first));
     glUniform1i(p.uniform("quality"), kQualityUnit);
     glUniform1i(p.uniform("colormap"), kColormapUnit);
     glActiveTexture(GL_TEXTURE0 + kQualityUnit);
@@ -459,15 +481,24 @@ void MeshRenderer::draw_triangles(const MeshView& mesh, const OrbitCamera& camer
 
     glBindVertexArray(mesh.vertex_array_);
     if (preview) {
+        glUniform1i(p.uniform("first_triangle"), 0);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.preview_index_buffer_);
         glDrawElements(GL_TRIANGLES, GLsizei(mesh.preview_triangles_ * 3), GL_UNSIGNED_INT,
                        nullptr);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.index_buffer_); // the vertex array's own
     } else {
-        // GL takes the offset into the bound index buffer as a pointer.
-        const void* offset = reinterpret_cast<const void*>( // NOLINT(performance-no-int-to-ptr)
-            static_cast<std::uintptr_t>(first * 3 * sizeof(GLuint)));
-        glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT, offset);
+        // A call a block of indices; gl_PrimitiveID starts at 0 in each, the quality's index at
+        // first_triangle.
+        const std::size_t end = first + count, size = MeshView::kIndexBlockTriangles;
+        for (std::size_t block = first / size; block * size < end; ++block) {
+            const std::size_t from = std::max(first, block * size);
+            const std::size_t to = std::min(end, (block + 1) * size);
+            glUniform1i(p.uniform("first_triangle"), GLint(from));
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.index_buffers_[block]);
+            // GL takes the offset into the bound index buffer as a pointer.
+            const void* offset = reinterpret_cast<const void*>( // NOLINT(performance-no-int-to-ptr)
+                static_cast<std::uintptr_t>((from - block * size) * 3 * sizeof(GLuint)));
+            glDrawElements(GL_TRIANGLES, GLsizei((to - from) * 3), GL_UNSIGNED_INT, offset);
+        }
     }
     glBindVertexArray(0);
 

@@ -84,12 +84,14 @@ class MeshView {
     // `normals` (one per vertex, as vertex_normals makes them) are computed here when empty.
     void upload(const Mesh& mesh, std::span<const float> quality = {},
                 std::span<const glm::vec3> normals = {});
-    // upload() one array a call, for a software GL whose new storage is slow to make (llvmpipe
-    // clears it as it makes it: about 5 ms a MB on a small VM), so that each frame sends one:
-    // part 0 the positions, 1 the normals, 2 the indices, 3 the quality, with the same mesh each
-    // time. From part 0 the view is empty (draws nothing, no preview) until part 3 completes it.
-    // Each part checks what it sends and throws std::invalid_argument as upload() does.
-    static constexpr int kUploadParts = 4;
+    // upload() in parts, for a software GL whose new storage is slow to make (llvmpipe clears it
+    // as it makes it: about 5 ms a MB on a small VM), so that each frame sends one: part 0 the
+    // positions, 1 the normals, then the indices a block of kIndexBlockTriangles at a time, last
+    // the quality; upload_parts(mesh) parts in all, each call with the same mesh. From part 0 the
+    // view is empty (draws nothing, no preview) until the last part completes it. Each part
+    // checks what it sends and throws std::invalid_argument as upload() does.
+    static constexpr std::size_t kIndexBlockTriangles = std::size_t(1) << 18; // 3 MB
+    static int upload_parts(const Mesh& mesh);
     void upload_part(int part, const Mesh& mesh, std::span<const float> quality = {},
                      std::span<const glm::vec3> normals = {});
     // The same topology with new positions (a relaxation step): `mesh` has the vertex and
@@ -114,7 +116,10 @@ class MeshView {
     friend class MeshRenderer;
     void release();
 
-    GLuint vertex_array_ = 0, position_buffer_ = 0, normal_buffer_ = 0, index_buffer_ = 0;
+    GLuint vertex_array_ = 0, position_buffer_ = 0, normal_buffer_ = 0;
+    // The indices in blocks of kIndexBlockTriangles, a buffer each (drawn a block a call): no
+    // one buffer's making takes a whole frame.
+    std::vector<GLuint> index_buffers_;
     GLuint quality_buffer_ = 0, quality_texture_ = 0;
     GLuint preview_index_buffer_ = 0, preview_quality_buffer_ = 0, preview_quality_texture_ = 0;
     std::size_t triangles_ = 0, vertices_ = 0, preview_triangles_ = 0;

@@ -914,7 +914,7 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     h->frame(); // the app's own target is bound again for its frame
 }
 
-// A mesh of more than kStagedUploadTriangles gets its new buffers over four renders, a part
+// A mesh of more than kStagedUploadTriangles gets its new buffers over several renders, a part
 // each, which draw nothing (the view keeps its picture); the render after draws it. Another
 // mesh while the parts go starts them again: the GPU holds neither mesh whole.
 TEST(AppViews, LargeMeshSentInPartsBeforeItIsDrawn) {
@@ -938,7 +938,7 @@ TEST(AppViews, LargeMeshSentInPartsBeforeItIsDrawn) {
     // Sends the parts; true when each render sent one and drew nothing.
     const auto send_parts = [&] {
         bool quiet = true;
-        for (int part = 0; part < render::MeshView::kUploadParts; ++part) {
+        for (int part = 0; part < render::MeshView::upload_parts(mesh->mesh); ++part) {
             quiet = quiet && views.sending() && views.needs_refine();
             views.render(200, 150, camera, style);
             quiet = quiet && views.render_count() == renders &&

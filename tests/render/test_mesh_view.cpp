@@ -1,6 +1,10 @@
 // Drawing meshes for real on OSMesa: what lands in which pixel for each shading, the
 // wireframe, the image orientation, and the upload checks.
 #include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <span>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -84,10 +88,12 @@ TEST_F(MeshViewTest, UploadInPartsDrawsNothingUntilCompleteThenAsOneUpload) {
 
     MeshView parts;
     parts.upload(test::square(2.0f)); // another mesh first: the parts replace it
-    for (int part = 0; part < MeshView::kUploadParts; ++part) {
+    const int count = MeshView::upload_parts(mesh);
+    ASSERT_EQ(count, 4); // positions, normals, one block of indices, quality
+    for (int part = 0; part < count; ++part) {
         EXPECT_EQ(parts.counters().uploads, 1) << part;
         parts.upload_part(part, mesh, quality);
-        if (part + 1 < MeshView::kUploadParts) {
+        if (part + 1 < count) {
             EXPECT_TRUE(parts.empty()) << part;
             EXPECT_EQ(picture(parts).rgba, backdrop.rgba) << "drawn after part " << part;
         }
@@ -101,7 +107,71 @@ TEST_F(MeshViewTest, UploadInPartsDrawsNothingUntilCompleteThenAsOneUpload) {
     Mesh bad = mesh;
     bad.indices.back() = 4;
     EXPECT_THROW(parts.upload_part(2, bad), std::invalid_argument);
-    EXPECT_THROW(parts.upload_part(MeshView::kUploadParts, mesh), std::invalid_argument);
+    EXPECT_THROW(parts.upload_part(count, mesh), std::invalid_argument);
+}
+
+// A mesh of two blocks of indices (kIndexBlockTriangles, a buffer each) is drawn a block a
+// call: the picture of its two halves drawn as meshes of their own, each triangle in its own
+// quality; a step that flips quads' diagonals across the blocks' border updates both blocks, as
+// new buffers would.
+TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
+    // A strip of squares along x, the second block's triangles on its right half.
+    const std::uint32_t squares = MeshView::kIndexBlockTriangles;
+    // Squares [flip_first, flip_end) split along their other diagonal.
+    const auto strip = [](std::uint32_t first, std::uint32_t end, std::uint32_t flip_first = 0,
+                          std::uint32_t flip_end = 0) {
+        Mesh mesh;
+        for (std::uint32_t i = first; i <= end; ++i) {
+            const float x = float(i) / float(squares);
+            mesh.positions.push_back({x, 0.0f, 0.0f});
+            mesh.positions.push_back({x, 0.05f, 0.0f});
+        }
+        for (std::uint32_t i = 0; i < end - first; ++i) {
+            const std::uint32_t a = 2 * i, b = a + 2, c = a + 3, d = a + 1;
+            if (first + i >= flip_first && first + i < flip_end)
+                mesh.indices.insert(mesh.indices.end(), {a, b, d, b, c, d});
+            else
+                mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+        }
+        return mesh;
+    };
+    const Mesh mesh = strip(0, squares);
+    ASSERT_EQ(mesh.triangle_count(), 2 * MeshView::kIndexBlockTriangles);
+    EXPECT_EQ(MeshView::upload_parts(mesh), 5); // positions, normals, two blocks, quality
+    // Qualities across the colour map, so that a block's triangle read with another's quality
+    // shows.
+    std::vector<float> quality(mesh.triangle_count());
+    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = float(t % 97) / 96.0f;
+    const std::span<const float> all_quality = quality;
+    RenderTarget target(256, 16, 1);
+    MeshRenderer renderer;
+    DrawStyle style;
+    style.shading = Shading::Quality;
+    const Viewport all{0, 0, 256, 16};
+    const OrbitCamera camera = frame_bounds(mesh_bounds(mesh), ViewPreset::Top, 16.0f, 0.0f);
+    const auto picture = [&](std::initializer_list<const MeshView*> views) {
+        renderer.draw_background(all, style);
+        for (const MeshView* view : views) renderer.draw(*view, camera, all, style);
+        return target.read().rgba;
+    };
+    MeshView view;
+    view.upload(mesh, quality);
+    const std::vector<std::uint8_t> blocks = picture({&view});
+    MeshView left, right;
+    const std::size_t half = MeshView::kIndexBlockTriangles;
+    left.upload(strip(0, squares / 2), all_quality.first(half));
+    right.upload(strip(squares / 2, squares), all_quality.subspan(half));
+    EXPECT_EQ(blocks, picture({&left, &right}));
+
+    // From the middle of the first block to the middle of the second: one run of changed
+    // indices, written into each block at its own offset.
+    const Mesh flipped = strip(0, squares, squares / 4, 3 * squares / 4);
+    ASSERT_TRUE(view.update(flipped, mesh.indices, quality));
+    MeshView fresh;
+    fresh.upload(flipped, quality);
+    const std::vector<std::uint8_t> updated = picture({&view});
+    EXPECT_NE(updated, blocks) << "the flips change which quality a pixel shows";
+    EXPECT_EQ(updated, picture({&fresh}));
 }
 
 TEST_F(MeshViewTest, FlatShadingLightsTheMeshOverTheBackdrop) {
