@@ -104,8 +104,8 @@ App::App(AppOptions options)
 
 App::~App() = default;
 
-void App::warm_up() {
-    views_->warm_up();
+void App::warm_up(int width, int height) {
+    views_->warm_up(width, height);
 }
 
 bool App::slice_view_shown() const {

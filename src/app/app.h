@@ -147,9 +147,9 @@ class App {
     // May draw into the app's offscreen view targets; the glue binds its own framebuffer
     // before rendering ImGui's draw data.
     void frame();
-    // Before the first frame (the window's glue): the views' shaders compiled by one small draw
-    // of each kind (ViewRenderer::warm_up), so that no frame carries it.
-    void warm_up();
+    // Before the first frame (the window's glue, its framebuffer's size): the views' shaders
+    // compiled by one draw of each kind (ViewRenderer::warm_up), so that no frame carries it.
+    void warm_up(int width, int height);
 
     // --- Actions (menus, buttons, shortcuts, drag-and-drop and tests all come here) ---
     // Opens `spec` (restarts the computation at the next frame). Should it fail to load, the

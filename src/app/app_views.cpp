@@ -220,8 +220,10 @@ void App::draw_views(float width, float height) {
                        : std::string(label_of(method_of(settings_.parameters.relax.mode)));
             centred_text(draw, fonts_.bold, title_min, title_max, IM_COL32(28, 30, 34, 255), name);
         }
-        draw->AddImage(ImTextureID(std::intptr_t(views_->texture(i))), view_min, view_max,
-                       ImVec2(0, 1), ImVec2(1, 0));
+        // No picture before the views' first render (their pictures are made a frame each).
+        if (const unsigned texture = views_->texture(i); texture != 0)
+            draw->AddImage(ImTextureID(std::intptr_t(texture)), view_min, view_max, ImVec2(0, 1),
+                           ImVec2(1, 0));
         if (slice_view_)
             draw_crosshair(UiRect{view_min.x, view_min.y, view_max.x, view_max.y}, i == 1);
         ImGui::SetCursorScreenPos(view_min);

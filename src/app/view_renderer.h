@@ -44,9 +44,11 @@ class ViewRenderer {
     ~ViewRenderer();
 
     // Draws a small mesh once in every way a view draws one (backdrop, mesh, wireframe, preview,
-    // part, resolve) into a small target. Software GL compiles a shader's code at the first draw
-    // that needs it: done here, before the window's first frame, that frame does not carry it.
-    void warm_up();
+    // part, resolve) into a target of width x height (the window's size: no view is larger).
+    // Software GL compiles a shader's code at the first draw that needs it, and sizes its
+    // working memory to the largest target drawn: done here, before the window's first frame,
+    // that frame does not carry it (the first view's first draw took 25 ms, the next 3.5).
+    void warm_up(int width, int height);
 
     // Uploads a view's mesh when it is a different one (null clears the view): nothing for the
     // same geometry (a frame's measured version), positions, normals and quality only for the
@@ -82,13 +84,16 @@ class ViewRenderer {
     // once nothing changed for kQuiet, the whole mesh is drawn again. A mesh too large for one
     // frame shows its preview until its parts, one a frame, are all drawn.
     // Each render() does one of the costly things only (with software GL each takes a good part
-    // of a frame): a part of a large mesh's new buffers, the views' drawing, starting a view's
-    // parts (its second target cleared, made the first time), or one part.
+    // of a frame): a part of a large mesh's new buffers, the views' drawing (with one view's new
+    // picture made first), starting a view's parts (its second picture cleared, made the first
+    // time), or one part.
     void render(int width, int height, const render::OrbitCamera& camera,
                 const render::DrawStyle& style);
-    // A view does not show its whole mesh yet (it shows the preview, or its mesh is still being
-    // sent): later render()s draw it even if nothing moves.
-    bool needs_refine() const { return refine_[0] || refine_[1] || sending(); }
+    // A view does not show its whole mesh yet (it shows the preview, its mesh is still being
+    // sent, or it waits for its picture): later render()s draw it even if nothing moves.
+    bool needs_refine() const {
+        return refine_[0] || refine_[1] || sending() || dirty_[0] || dirty_[1];
+    }
     // True while a view's new buffers are sent, a part a render.
     bool sending() const { return next_part_[0] != kNoUpload || next_part_[1] != kNoUpload; }
     // The next render() has work: a part to send, or a view whose mesh changed to draw.

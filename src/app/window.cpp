@@ -139,7 +139,9 @@ int run_window(const WindowOptions& options) {
     // llvmpipe): ImGui's shaders and font texture, the views' shaders, the window's first
     // buffers (shown cleared, as the first frame would show it before its views).
     ImGui_ImplOpenGL3_CreateDeviceObjects();
-    app->warm_up();
+    int window_width = 0, window_height = 0;
+    glfwGetFramebufferSize(glfw.window, &window_width, &window_height);
+    app->warm_up(window_width, window_height);
     clear_window(glfw.window);
     glfwSwapBuffers(glfw.window);
 

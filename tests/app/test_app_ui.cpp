@@ -812,6 +812,18 @@ std::vector<std::uint8_t> view_pixels(const ViewRenderer& views, int view, int w
     return pixels;
 }
 
+// Marching Cubes' mesh of the sphere phantom of `size`^3 as the worker sends it: measured, with
+// normals, geometry 1, no preview.
+std::shared_ptr<DisplayMesh> sphere_mesh(int size) {
+    const Phantom phantom = make_phantom("sphere", size);
+    auto mesh = std::make_shared<DisplayMesh>();
+    mesh->mesh = marching_cubes(phantom.volume, {phantom.iso, InsideIs::Above});
+    mesh->measure_triangles();
+    mesh->normals = render::vertex_normals(mesh->mesh);
+    mesh->geometry = 1;
+    return mesh;
+}
+
 // Renders until the view shows its whole mesh; returns the renders that took.
 int render_until_whole(ViewRenderer& views, const render::OrbitCamera& camera,
                        const render::DrawStyle& style) {
@@ -833,12 +845,7 @@ int render_until_whole(ViewRenderer& views, const render::OrbitCamera& camera,
 TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     auto h = make_app(1); // for its GL context
     ASSERT_TRUE(h->run_until(settled));
-    const Phantom phantom = make_phantom("sphere", 120);
-    auto mesh = std::make_shared<DisplayMesh>();
-    mesh->mesh = marching_cubes(phantom.volume, {phantom.iso, InsideIs::Above});
-    mesh->measure_triangles();
-    mesh->normals = render::vertex_normals(mesh->mesh);
-    mesh->geometry = 1;
+    auto mesh = sphere_mesh(120);
     mesh->preview = std::make_shared<const PreviewMesh>(make_preview(mesh->mesh));
     ASSERT_FALSE(mesh->preview->indices.empty());
     // From the front (z up): the first triangles (low z) and the last both in the picture.
@@ -914,24 +921,27 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     h->frame(); // the app's own target is bound again for its frame
 }
 
-// A mesh of more than kStagedUploadTriangles gets its new buffers over several renders, a part
-// each, which draw nothing (the view keeps its picture); the render after draws it. Another
-// mesh while the parts go starts them again: the GPU holds neither mesh whole.
+// The views' first pictures are made a render each. A mesh of more than kStagedUploadTriangles
+// gets its new buffers over several renders, a part each, which draw nothing (the view keeps its
+// picture); the render after draws it. Another mesh while the parts go starts them again: the
+// GPU holds neither mesh whole.
 TEST(AppViews, LargeMeshSentInPartsBeforeItIsDrawn) {
     auto h = make_app(1); // for its GL context
     ASSERT_TRUE(h->run_until(settled));
-    const Phantom phantom = make_phantom("sphere", 200);
-    auto mesh = std::make_shared<DisplayMesh>();
-    mesh->mesh = marching_cubes(phantom.volume, {phantom.iso, InsideIs::Above});
+    const auto mesh = sphere_mesh(200);
     ASSERT_GT(mesh->mesh.triangle_count(), ViewRenderer::kStagedUploadTriangles);
-    mesh->measure_triangles();
-    mesh->normals = render::vertex_normals(mesh->mesh);
-    mesh->geometry = 1;
     const render::OrbitCamera camera =
         render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
     const render::DrawStyle style;
     ViewRenderer views;
-    views.render(200, 150, camera, style); // the backdrop
+    // The views' first pictures are made a render each (fresh memory for their samples).
+    views.render(200, 150, camera, style);
+    EXPECT_NE(views.texture(0), 0u);
+    EXPECT_EQ(views.texture(1), 0u);
+    EXPECT_TRUE(views.needs_refine());
+    views.render(200, 150, camera, style);
+    EXPECT_NE(views.texture(1), 0u);
+    EXPECT_FALSE(views.needs_refine());
     const std::vector<std::uint8_t> backdrop = view_pixels(views, 0, 200, 150);
     const int renders = views.render_count(), draws = views.view_draws(0);
 
