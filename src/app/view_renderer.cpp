@@ -206,10 +206,7 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
     const auto now = std::chrono::steady_clock::now();
     const render::Viewport viewport{0, 0, width, height};
     for (std::size_t i = 0; i < kViews; ++i) {
-        if (!has_picture(i)) {
-            drawing_parts_[i] = false; // into the old size's picture
-            continue;
-        }
+        if (!targets_[i]) continue; // its first picture comes with the next render
         // Too many triangles for one frame: the preview now, the whole mesh in parts after.
         const bool large = views_[i].has_preview() && views_[i].triangle_count() > part_triangles_;
         if (all || dirty_[i]) {
