@@ -44,10 +44,9 @@ void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int mods)
         app->key_pressed(key, (mods & GLFW_MOD_CONTROL) != 0, action == GLFW_REPEAT);
 }
 
-// The window's framebuffer cleared to the app's background, as each frame starts its drawing.
-void clear_window(GLFWwindow* window) {
-    int width = 0, height = 0;
-    glfwGetFramebufferSize(window, &width, &height);
+// The window's framebuffer (width x height pixels) cleared to the app's background, as each
+// frame starts its drawing.
+void clear_window(int width, int height) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, width, height);
     glClearColor(kWindowBackground[0], kWindowBackground[1], kWindowBackground[2],
@@ -142,7 +141,7 @@ int run_window(const WindowOptions& options) {
     int window_width = 0, window_height = 0;
     glfwGetFramebufferSize(glfw.window, &window_width, &window_height);
     app->warm_up(window_width, window_height);
-    clear_window(glfw.window);
+    clear_window(window_width, window_height);
     glfwSwapBuffers(glfw.window);
 
     int result = 0;
@@ -186,7 +185,7 @@ int run_window(const WindowOptions& options) {
         ImGui::Render();
         int fb_width = 0, fb_height = 0;
         glfwGetFramebufferSize(glfw.window, &fb_width, &fb_height);
-        clear_window(glfw.window);
+        clear_window(fb_width, fb_height);
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         const float scale = ImGui::GetIO().DisplayFramebufferScale.x;
         if (const auto request = app->take_screenshot_request())
