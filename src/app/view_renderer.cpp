@@ -281,12 +281,12 @@ void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewpor
     glFinish();
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const std::size_t total = views_[i].triangle_count();
+    const std::size_t drawn = std::min(part_triangles_, total - std::min(parts_drawn_[i], total));
     parts_drawn_[i] += part_triangles_;
     ++part_draws_;
     part_ms_ += ms;
-    const double scale = std::clamp(kPartBudgetMs / std::max(ms, 0.01), 0.5, 2.0);
-    part_triangles_ = std::clamp(std::size_t(double(part_triangles_) * scale), kMinPartTriangles,
-                                 kMaxPartTriangles);
+    part_triangles_ = next_part_triangles(part_triangles_, drawn, ms);
     if (parts_drawn_[i] < views_[i].triangle_count()) return;
     parts_[i]->resolve();
     std::swap(targets_[i], parts_[i]);
@@ -294,6 +294,15 @@ void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewpor
     quiet_[i] = kQuiet;
     refine_[i] = false;
     ++view_draws_[i];
+}
+
+std::size_t ViewRenderer::next_part_triangles(std::size_t size, std::size_t drawn, double ms) {
+    // A mesh's last part is what is left of it: its time says little of a whole part's (taken as
+    // a whole part's, a quick remainder doubled the next mesh's first part).
+    if (2 * drawn < size) return size;
+    const double scale =
+        std::clamp(kPartBudgetMs / std::max(ms, 0.01) * double(drawn) / double(size), 0.5, 2.0);
+    return std::clamp(std::size_t(double(size) * scale), kMinPartTriangles, kMaxPartTriangles);
 }
 
 unsigned ViewRenderer::texture(int view) const {

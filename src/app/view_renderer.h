@@ -102,6 +102,9 @@ class ViewRenderer {
     bool drawing_parts() const { return drawing_parts_[0] || drawing_parts_[1]; }
     // Triangles a part holds now (tests; it adapts to the time parts take).
     std::size_t part_triangles() const { return part_triangles_; }
+    // The next part's size after a part of `size` triangles drew `drawn` of them (fewer at a
+    // mesh's end) in `ms`: towards kPartBudgetMs, at most doubled or halved a part.
+    static std::size_t next_part_triangles(std::size_t size, std::size_t drawn, double ms);
     // The picture of a view (GL convention: row 0 at the bottom); 0 before the first render.
     unsigned texture(int view) const;
     // Calls of render() that drew anything (tests check that an unchanged frame draws nothing).

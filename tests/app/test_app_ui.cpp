@@ -839,6 +839,25 @@ int render_until_whole(ViewRenderer& views, const render::OrbitCamera& camera,
 
 } // namespace
 
+// The part size follows the rate of the last part: the triangles that fit kPartBudgetMs, at most
+// doubled or halved a part. A mesh's remainder (under half a part) leaves it as it is: taken as a
+// whole part, a quick remainder doubled the next mesh's first part.
+TEST(AppViews, PartSizeFollowsTheLastWholePart) {
+    constexpr double budget = ViewRenderer::kPartBudgetMs;
+    constexpr std::size_t size = std::size_t(1) << 15;
+    EXPECT_EQ(ViewRenderer::next_part_triangles(size, size, budget), size);
+    EXPECT_EQ(ViewRenderer::next_part_triangles(size, size, budget / 1.5), size * 3 / 2);
+    EXPECT_EQ(ViewRenderer::next_part_triangles(size, size, budget / 10), 2 * size);
+    EXPECT_EQ(ViewRenderer::next_part_triangles(size, size, budget * 10), size / 2);
+    // Three quarters of a part at the whole part's rate.
+    EXPECT_EQ(ViewRenderer::next_part_triangles(size, size * 3 / 4, budget * 3 / 4), size);
+    // A remainder, however quick.
+    EXPECT_EQ(ViewRenderer::next_part_triangles(size, size / 4, 0.5), size);
+    EXPECT_EQ(ViewRenderer::next_part_triangles(ViewRenderer::kMinPartTriangles,
+                                                ViewRenderer::kMinPartTriangles, budget * 10),
+              ViewRenderer::kMinPartTriangles);
+}
+
 // A mesh with more triangles than a part is drawn in parts, one a render, while its preview is
 // shown; the finished picture equals the one drawn in one piece, pixel for pixel (the parts
 // keep the triangles' order, and each numbers its triangles from its first for the colours).
