@@ -638,10 +638,8 @@ SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& dista
     return result;
 }
 
-Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance,
-                  std::span<const glm::vec3> area_positions) {
+Accuracy point_accuracy(const Mesh& mesh, const DistanceFunction& distance) {
     check_mesh(mesh);
-    checked_area_positions(mesh, area_positions);
     auto measure = [&](std::size_t count, auto point_of) {
         std::vector<Partial> partials((count + kPointChunk - 1) / kPointChunk);
         for_each_chunk(count, kPointChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
@@ -663,6 +661,12 @@ Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance,
             const std::uint32_t* i = &mesh.indices[3 * t];
             return (mesh.positions[i[0]] + mesh.positions[i[1]] + mesh.positions[i[2]]) / 3.0f;
         });
+    return result;
+}
+
+Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance,
+                  std::span<const glm::vec3> area_positions) {
+    Accuracy result = point_accuracy(mesh, distance);
     const SurfaceDistance surface =
         surface_distance(mesh, distance, area_positions, kSurfaceSampleSplit);
     result.surface_mean = surface.mean;

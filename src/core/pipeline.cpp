@@ -46,7 +46,11 @@ MethodMetrics measure_into_world(Mesh& mesh, const Volume& volume,
     m.vertices = mesh.vertex_count();
     m.triangles = mesh.triangle_count();
     // Index space first: the accuracy (weighted by the world areas), the border, the volume error.
-    if (reference) m.accuracy = accuracy(mesh, reference, points_to_world(mesh.positions, volume));
+    // The convergence plots show the accuracy at the vertices and the centroids only.
+    if (reference)
+        m.accuracy = what.convergence_only
+                         ? point_accuracy(mesh, reference)
+                         : accuracy(mesh, reference, points_to_world(mesh.positions, volume));
     if (!what.convergence_only) {
         // Connectivity only: the same in either space (a mirroring map flips every triangle).
         m.topology = topology(mesh);

@@ -34,8 +34,9 @@ struct MeasureOptions {
     // MethodMetrics::volume_error stays empty.
     double reference_volume = 0.0;
     // Only what the app's convergence plots show after every iteration: the counts, quality,
-    // smoothness and accuracy; the checks (topology, border, self-intersections, FE-readiness),
-    // area, volume and volume error keep their defaults.
+    // smoothness and the accuracy at the vertices and centroids (point_accuracy); the checks
+    // (topology, border, self-intersections, FE-readiness), area, volume and volume error keep
+    // their defaults.
     bool convergence_only = false;
     bool operator==(const MeasureOptions&) const = default;
 };

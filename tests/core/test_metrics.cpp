@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <random>
@@ -420,6 +421,28 @@ TEST(Accuracy, LargeGridAgainstShiftedPlane) {
     // A linear distance is integrated exactly by the centroid rule: 0.2 over the surface too.
     EXPECT_NEAR(a.surface_mean, 0.2, 1e-5);
     EXPECT_NEAR(a.surface_max, 0.25, 1e-3);
+}
+
+// The figures at the points alone (the app's plot over the iterations): accuracy()'s own, to the
+// bit, and no surface samples asked for.
+TEST(Accuracy, AtPointsAloneAsAccuracyGivesThem) {
+    const Mesh grid = flat_grid(40);
+    std::atomic<std::size_t> calls{0};
+    const DistanceFunction tilted = [&](glm::vec3 p) {
+        ++calls;
+        return p.z - 0.25f + 0.001f * p.x * p.y;
+    };
+    const Accuracy whole = accuracy(grid, tilted);
+    calls = 0;
+    const Accuracy points = point_accuracy(grid, tilted);
+    EXPECT_EQ(calls, grid.positions.size() + grid.triangle_count());
+    EXPECT_EQ(points.vertices_mean, whole.vertices_mean);
+    EXPECT_EQ(points.vertices_max, whole.vertices_max);
+    EXPECT_EQ(points.faces_mean, whole.faces_mean);
+    EXPECT_EQ(points.faces_max, whole.faces_max);
+    EXPECT_GT(whole.surface_mean, 0.0);
+    EXPECT_EQ(points.surface_mean, 0.0);
+    EXPECT_EQ(points.surface_max, 0.0);
 }
 
 TEST(Accuracy, SurfaceIsAreaWeighted) {
