@@ -281,8 +281,9 @@ void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewpor
     glFinish();
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    const std::size_t total = views_[i].triangle_count();
-    const std::size_t drawn = std::min(part_triangles_, total - std::min(parts_drawn_[i], total));
+    // Parts run while parts_drawn_ is short of the mesh: the last one draws what is left.
+    const std::size_t drawn =
+        std::min(part_triangles_, views_[i].triangle_count() - parts_drawn_[i]);
     parts_drawn_[i] += part_triangles_;
     ++part_draws_;
     part_ms_ += ms;

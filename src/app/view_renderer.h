@@ -47,7 +47,9 @@ class ViewRenderer {
     // part, resolve) into a target of width x height (the window's size: no view is larger).
     // Software GL compiles a shader's code at the first draw that needs it, and sizes its
     // working memory to the largest target drawn: done here, before the window's first frame,
-    // that frame does not carry it (the first view's first draw took 25 ms, the next 3.5).
+    // that frame does not carry it (the first view's first draw took 25 ms, the next 3.5). The
+    // app keeps the memory it frees (the `gui` command's malloc settings), so this target's
+    // pages then serve the views' own pictures.
     void warm_up(int width, int height);
 
     // Uploads a view's mesh when it is a different one (null clears the view): nothing for the

@@ -666,6 +666,7 @@ Accuracy point_accuracy(const Mesh& mesh, const DistanceFunction& distance) {
 
 Accuracy accuracy(const Mesh& mesh, const DistanceFunction& distance,
                   std::span<const glm::vec3> area_positions) {
+    checked_area_positions(mesh, area_positions); // before any distance is asked for
     Accuracy result = point_accuracy(mesh, distance);
     const SurfaceDistance surface =
         surface_distance(mesh, distance, area_positions, kSurfaceSampleSplit);
