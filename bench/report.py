@@ -9,7 +9,8 @@ prints one table with the issue's targets marked met / not met.
 
 The CT benchmark volume (512 x 512 x 400 int16 NRRD) is made once into BUILD_DIR/ct512.nrrd by
 ../shared/tools/upsample_ct.py; without ../shared/data the CT rows are skipped, and it says so.
-Times are wall clock: snert's stages are medians of `snert bench --repeat`, FE's of 5 runs.
+Times are wall clock: snert's stages are medians of `snert bench --repeat`, FE's of 5 runs after an
+untimed one, under glibc's default and under each of snert's two memory policies.
 """
 import json, os, re, shutil, subprocess, sys, tempfile, time
 
@@ -44,11 +45,23 @@ def snert_bench(snert, volume_args, threads, repeat):
             return json.load(f)
 
 
-def run_peer(ct, quick):
+# glibc's policies of snert's FreedMemory (src/cli/freed_memory.cpp) as environment settings, so
+# that flying edges runs under the same one as the snert stage it is compared with.
+FRESH_PAGES = {"MALLOC_MMAP_THRESHOLD_": str(256 << 10)}  # Returned: the batch commands'
+KEPT_MEMORY = {"MALLOC_MMAP_THRESHOLD_": str(32 << 20),     # Kept: the app's
+               "MALLOC_TRIM_THRESHOLD_": str(128 << 20)}
+
+
+def run_peer(ct, quick, policy=None):
+    """vtk_peer.py's JSON, under glibc's default or under `policy` (FRESH_PAGES, KEPT_MEMORY).
+    Under FRESH_PAGES every run of flying edges writes into fresh pages, as every timed run of
+    `snert bench`'s Marching Cubes does; under KEPT_MEMORY its runs after the first reuse the
+    memory the one before freed, as `snert bench`'s "in kept memory" rows do."""
     cmd = [sys.executable, os.path.join(HERE, "vtk_peer.py"), "--runs", "3" if quick else "5"]
     if ct:
         cmd += ["--ct", ct]
-    res = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    res = subprocess.run(cmd, capture_output=True, text=True, check=True,
+                         env={**os.environ, **(policy or {})})
     return json.loads(res.stdout)
 
 
@@ -88,6 +101,8 @@ def main():
     ct = make_ct(build)
     peer = run_peer(ct, quick)
     fe = {k: v["ms"] for k, v in peer["cases"].items()}
+    fe_fresh, fe_kept = ({k: v["ms"] for k, v in run_peer(ct, quick, policy)["cases"].items()}
+                         for policy in (FRESH_PAGES, KEPT_MEMORY))
 
     volumes = [("sphere 256^3", ["--size", "256"], "sphere256/iso:0")]
     if ct:
@@ -108,19 +123,26 @@ def main():
     many = thread_counts[-1]
     for label, _, key in volumes:
         one, all_ = runs[(label, 1)], runs[(label, many)]
-        f = fe.get(key)
-        ratio = one["mc_ms"] / f
+        f, f_fresh, f_kept = fe.get(key), fe_fresh.get(key), fe_kept.get(key)
+        # Like against like: each side's fresh pages, and each side's kept memory (bench/README.md,
+        # "Fresh pages and kept memory").
+        fresh, kept = one["mc_ms"] / f_fresh, one["mc_kept_ms"] / f_kept
         add("Marching Cubes, 1 thread", label,
-            f"{fmt(one['mc_ms'])} ms, FE {fmt(f)} ms: {ratio:.2f}x FE's time",
-            "<= 0.5x (2x FE's throughput)", ratio <= 0.5)
+            f"fresh pages {fmt(one['mc_ms'])} ms, FE {fmt(f_fresh)} ms: {fresh:.2f}x; kept memory "
+            f"{fmt(one['mc_kept_ms'])} ms, FE {fmt(f_kept)} ms: {kept:.2f}x FE's time",
+            "<= 0.5x (2x FE's throughput)", max(fresh, kept) <= 0.5)
         if many > 1:
             speedup = one["mc_ms"] / all_["mc_ms"]
+            kept_speedup = one["mc_kept_ms"] / all_["mc_kept_ms"]
             add(f"Marching Cubes, {many} threads", label,
-                f"{fmt(all_['mc_ms'])} ms: {speedup:.2f}x faster", ">= 1.8x faster",
-                speedup >= 1.8)
+                f"fresh {fmt(all_['mc_ms'])} ms: {speedup:.2f}x faster; kept "
+                f"{fmt(all_['mc_kept_ms'])} ms: {kept_speedup:.2f}x", ">= 1.8x faster",
+                min(speedup, kept_speedup) >= 1.8)
         add("net build, 1 thread", label,
-            f"{fmt(one['net_ms'])} ms = {one['net_ms'] / one['mc_ms']:.2f}x our MC",
-            "<= our MC", one["net_ms"] <= one["mc_ms"])
+            f"fresh {fmt(one['net_ms'])} ms = {one['net_ms'] / one['mc_ms']:.2f}x our MC; kept "
+            f"{fmt(one['net_kept_ms'])} ms = {one['net_kept_ms'] / one['mc_kept_ms']:.2f}x",
+            "<= our MC", max(one["net_ms"] / one["mc_ms"],
+                             one["net_kept_ms"] / one["mc_kept_ms"]) <= 1)
         add("SNERT iteration, 1 thread", label,
             f"{fmt(one['relax_ns_per_node'])} ns/node ({one['nodes']} nodes)", "<= 25 ns/node",
             one["relax_ns_per_node"] <= 25)

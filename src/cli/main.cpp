@@ -7,7 +7,6 @@
 #include <exception>
 #include <iostream>
 
-#include <malloc.h>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "freed_memory.h"
 #include "core/input_error.h"
 #include "core/progress.h"
 
@@ -30,25 +30,6 @@ std::string one_line(std::string text) {
         if (c == '\n' || c == '\r') c = ' ';
     while (!text.empty() && text.back() == ' ') text.pop_back();
     return text;
-}
-
-// Where large buffers come from, by what the command does with memory.
-// - A batch command's buffers of 256 KiB or more get pages of their own, which go back to the
-//   system when freed. glibc's default raises that threshold after each large free (up to 32
-//   MiB), so the large buffers of later stages come from the heap and stay resident after use:
-//   on the 512 x 512 x 400 CT, `compare` peaked 60 MiB higher that way (bench/README.md).
-// - The app keeps what it frees (up to 128 MiB at the heap's top, buffers under 32 MiB from the
-//   heap), so software GL's pictures, frame buffers and mesh buffers are made in memory used
-//   before. Fresh pages are slow while the worker fills its own: the second view's first picture
-//   took 650-800 ms in the first frames while a clinical CT was read, and the warm-up's freed
-//   picture now serves both views. The app's peak memory on that CT moved by 1 %.
-void tune_malloc(const std::string& command) {
-    if (command.empty() || command == "gui") {
-        mallopt(M_MMAP_THRESHOLD, 32 << 20);
-        mallopt(M_TRIM_THRESHOLD, 128 << 20);
-    } else {
-        mallopt(M_MMAP_THRESHOLD, 256 << 10);
-    }
 }
 
 } // namespace
@@ -93,7 +74,10 @@ int main(int argc, char** argv) {
             std::cout << "snert " SNERT_VERSION "\n";
             return 0;
         }
-        tune_malloc(command);
+        // Batch commands return what they free; the app keeps it (freed_memory.cpp says why).
+        snert::cli::set_freed_memory(command.empty() || command == "gui"
+                                         ? snert::cli::FreedMemory::Kept
+                                         : snert::cli::FreedMemory::Returned);
         if (command.empty()) {
 #ifdef SNERT_HAVE_APP
             return runners.at("gui")();

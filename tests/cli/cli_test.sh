@@ -213,17 +213,19 @@ if ldd "$SNERT" | grep -q "libOSMesa"; then fail "snert links OSMesa instead of 
 expect_exit 0 "" -- "$SNERT" bench --size 32 --threads 1 --repeat 1 --json "$tmp/b.json"
 grep -q "SNERT iteration" "$tmp/out" || fail "bench table lacks the iteration row"
 grep -q "central differences" "$tmp/out" || fail "bench table lacks the central-difference iteration row"
+grep -q "in kept memory" "$tmp/out" || fail "bench table lacks the kept-memory rows"
 python3 - "$tmp/b.json" <<'PY' || fail "bench JSON"
 import json, sys
 j = json.load(open(sys.argv[1]))
-for key in ("mc_ms", "net_ms", "relax_ns_per_node", "relax_trilinear_ns_per_node",
+for key in ("mc_ms", "mc_kept_ms", "net_ms", "net_kept_ms", "relax_ns_per_node",
+            "relax_trilinear_ns_per_node",
             "relax_central_ns_per_node", "metrics_ms", "compare_ms", "nodes", "triangles",
             "threads", "size", "peak_rss_mb"):
     assert key in j, key
 assert j["threads"] == 1 and j["size"] == [32, 32, 32] and j["nodes"] > 0, j
 assert j["relax_trilinear_ns_per_node"] == j["relax_ns_per_node"] < 1e9, j
 assert 0 < j["relax_central_ns_per_node"], j
-assert 0 < j["mc_ms"] < j["compare_ms"], j
+assert 0 < j["mc_ms"] < j["compare_ms"] and 0 < j["mc_kept_ms"] and 0 < j["net_kept_ms"], j
 PY
 expect_exit 2 "--volume excludes --size|--size excludes --volume" -- "$SNERT" bench --size 32 --volume "$tmp/v.nrrd"
 expect_exit 2 "--iso requires --volume" -- "$SNERT" bench --iso 3
