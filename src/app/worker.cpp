@@ -475,12 +475,11 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
         job.options.measure.reference_volume = reference.volume;
         post(generation, VolumeMessage{job.source, iso, reference.analytic});
 
-        // The topology: the label's mask, or the grey values thresholded.
+        // The topology: the label's mask, or the grey values thresholded, which Marching Cubes
+        // and the net each classify as they are built (a byte a voxel would be 100 MiB on a
+        // 512 x 512 x 400 CT, made before Marching Cubes and held to the end of the job).
         set_stage(generation, Stage::Segment);
         throw_if_stopped(stop);
-        std::optional<Segmentation> threshold;
-        if (!mask) threshold = segment_threshold(volume, iso, job.options.inside);
-        const Segmentation& segmentation = mask ? *mask : *threshold;
         progress_.fraction[std::size_t(Stage::Segment)].store(1.0f);
 
         set_stage(generation, Stage::MarchingCubes);
@@ -524,8 +523,10 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
             return true;
         };
         observer.relax_progress = stage_progress(Stage::Relax, stop);
-        MethodResult net = run_surface_net(volume, segmentation, job.options, job.reference,
-                                           stage_progress(Stage::Net, stop), observer);
+        MethodResult net = mask ? run_surface_net(volume, *mask, job.options, job.reference,
+                                                  stage_progress(Stage::Net, stop), observer)
+                                : run_surface_net(volume, job.options, job.reference,
+                                                  stage_progress(Stage::Net, stop), observer);
         const bool converged = net.metrics.converged;
         // The final mesh's distance to MC's surface, as the CLI's table reports it.
         net.metrics.to_marching_cubes = distance_to_mesh(net.mesh, cached_mc_->mesh, volume);

@@ -159,6 +159,17 @@ MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentatio
     return relax_net(grey, std::move(net), start, options, reference, progress, observer);
 }
 
+MethodResult run_surface_net(const Volume& grey, const PipelineOptions& options,
+                             const DistanceFunction& reference, const Progress& progress,
+                             const NetObserver& observer) {
+    // The threshold classified as the net is built: no byte a voxel (100 MiB on a
+    // 512 x 512 x 400 CT) for the relaxation and the metrics to find in use.
+    const auto start = std::chrono::steady_clock::now();
+    auto net = std::make_shared<const SurfaceNet>(
+        build_surface_net(grey, options.iso, options.inside, progress));
+    return relax_net(grey, std::move(net), start, options, reference, progress, observer);
+}
+
 MethodResult run_method(Method method, const Volume& grey, const Segmentation* mask,
                         const PipelineOptions& base, const DistanceFunction& reference,
                         const Progress& progress) {
@@ -169,12 +180,7 @@ MethodResult run_method(Method method, const Volume& grey, const Segmentation* m
     if (method == Method::MarchingCubes)
         return measured_marching_cubes(grey, mask, options, reference, progress);
     if (mask) return run_surface_net(grey, *mask, options, reference, progress);
-    // The threshold classified as the net is built: no byte a voxel (100 MiB on a
-    // 512 x 512 x 400 CT) for the relaxation and the metrics to find in use.
-    const auto start = std::chrono::steady_clock::now();
-    auto net = std::make_shared<const SurfaceNet>(
-        build_surface_net(grey, options.iso, options.inside, progress));
-    return relax_net(grey, std::move(net), start, options, reference, progress, NetObserver{});
+    return run_surface_net(grey, options, reference, progress, NetObserver{});
 }
 
 namespace {
