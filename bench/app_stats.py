@@ -71,6 +71,8 @@ def main():
          "mean / max (target < 50 ms); %d of %d frames over 50 ms; the first %.0f ms, the "
          "largest after it %.0f ms" % (app["frames_over_50_ms"], app["frames"],
                                        app["first_frame_ms"], app["frame_ms_max_later"])),
+        ("app: largest part of a mesh", "%.1f ms" % app["part_ms_max"],
+         "drawn between frames or in one (%d parts)" % app["part_draws"]),
         ("app: step shown", "%.3f / %.3f s" % (app["step_latency_s_mean"],
                                               app["step_latency_s_max"]),
          "mean / max (target <= 0.3 s)"),

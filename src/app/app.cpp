@@ -797,14 +797,19 @@ bool App::animating() const {
 double App::frame_interval() const {
     const bool frame_due =
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
-    if (views_->has_pending_work()) return kSendingFrame;
-    if (worker_->has_messages() || playing_ || frame_due || views_->drawing_parts() ||
-        !requested_once_ || results_.generation != worker_->latest_generation() ||
-        notice_timer_ > 0 || screenshot_pending_)
+    if (views_->has_pending_work() || views_->picture_waiting()) return kSendingFrame;
+    if (worker_->has_messages() || playing_ || frame_due || !requested_once_ ||
+        results_.generation != worker_->latest_generation() || notice_timer_ > 0 ||
+        screenshot_pending_)
         return kAnimatingFrame;
-    // A view waiting to draw its whole mesh notices the wait is over at the next frame.
+    // A view waiting to draw its whole mesh notices the wait is over at the next frame; a view
+    // drawing its parts draws them between frames (draw_part_between_frames).
     if (worker_->busy() || views_->needs_refine()) return kProgressFrame;
     return kIdleFrame;
+}
+
+bool App::draw_part_between_frames() {
+    return views_->draw_part_between_frames();
 }
 
 int App::view_render_count() const {

@@ -241,10 +241,14 @@ class App {
     // otherwise. Software GL draws the window with the processor the worker computes with.
     // While a view's new buffers are sent (a part a frame) or wait to be drawn
     // (ViewRenderer::has_pending_work), kSendingFrame: the frames follow one another, and the new
-    // mesh is shown a few frames' work later.
+    // mesh is shown a few frames' work later; so too once a view's whole mesh was finished
+    // between frames (draw_part_between_frames), to show it.
     static constexpr double kAnimatingFrame = 1.0 / 15, kProgressFrame = 1.0 / 5, kIdleFrame = 0.5;
     static constexpr double kSendingFrame = 0.0;
     double frame_interval() const;
+    // The next part of a view's whole mesh (ViewRenderer::draw_part_between_frames), for the
+    // glue to draw while it waits for the next frame; false when no view is drawing parts.
+    bool draw_part_between_frames();
     // The rectangle a named widget had in the last frame ("step_forward", "step_back",
     // "play", "iteration_slider", "run_to_convergence", "views", "iso_slider", ...).
     std::optional<UiRect> widget_rect(const std::string& id) const;

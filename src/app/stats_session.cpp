@@ -83,6 +83,7 @@ void StatsSession::after_frame(const App& app, double frame_ms) {
             preview_draws_ = views.preview_draws(0) + views.preview_draws(1);
             part_draws_ = views.part_draws();
             part_ms_ = views.part_ms();
+            largest_part_ms_ = views.largest_part_ms();
         }
         if (done_s_ >= 0 && curves_s_ >= 0) phase_ = Phase::Stepping;
         break;
@@ -121,14 +122,14 @@ std::string StatsSession::json() const {
         "\"step_latency_s_max\": %.3f, "
         "\"turn_fps\": %.2f, \"turn_frame_ms_max\": %.2f, \"mc_triangles\": %zu, "
         "\"net_triangles\": %zu, \"iterations\": %d, \"mesh_draws\": %d, \"preview_draws\": %d, "
-        "\"part_draws\": %d, \"part_ms\": %.1f}",
+        "\"part_draws\": %d, \"part_ms\": %.1f, \"part_ms_max\": %.1f}",
         load_s_, mc_shown_s_ - load_s_, done_s_, done_s_ - load_s_, curves_s_,
         computing_frames_ms_.size(), mean(computing_frames_ms_), max(computing_frames_ms_),
         count_over(computing_frames_ms_, 50.0),
         computing_frames_ms_.empty() ? 0.0 : computing_frames_ms_.front(),
         max_later(computing_frames_ms_), mean(step_latencies_s_), max(step_latencies_s_), turn_fps,
         max(turning_frames_ms_), mc_triangles_, net_triangles_, iterations_, mesh_draws_,
-        preview_draws_, part_draws_, part_ms_);
+        preview_draws_, part_draws_, part_ms_, largest_part_ms_);
     return text;
 }
 

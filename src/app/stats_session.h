@@ -13,9 +13,11 @@
 //   step_latency_s_*     a step pressed to the frame that shows its iteration
 //   turn_fps             frames per second while the camera turns on every frame (once the
 //                        worker is idle)
-//   mesh_draws, preview_draws, part_draws, part_ms
+//   mesh_draws, preview_draws, part_draws, part_ms, part_ms_max
 //                        until the comparison is shown: the views' whole meshes drawn, their
-//                        stand-ins, and the parts of large meshes with their milliseconds
+//                        stand-ins, and the parts of large meshes with their milliseconds and
+//                        the largest (drawn in a frame, or between frames, where the UI thread
+//                        looks at the person's input after each)
 // The glue (window.cpp) calls before_frame / after_frame around each frame. GL-free.
 #pragma once
 
@@ -58,7 +60,7 @@ class StatsSession {
     // What the views drew until the comparison was shown: whole meshes (in one go or completed
     // from parts), previews, and the parts with the time they took.
     int mesh_draws_ = 0, preview_draws_ = 0, part_draws_ = 0;
-    double part_ms_ = 0;
+    double part_ms_ = 0, largest_part_ms_ = 0;
     int iterations_ = 0;
     // Stepping: back three times, forward three times.
     int step_index_ = 0;

@@ -181,6 +181,7 @@ bool ViewRenderer::send_next_part() {
 
 void ViewRenderer::render(int width, int height, const render::OrbitCamera& camera,
                           const render::DrawStyle& style) {
+    picture_waiting_ = false; // this frame shows it
     // Once the views have pictures (their targets are made): until then a part would leave them
     // without one.
     if (targets_[0] && targets_[1] && send_next_part()) return;
@@ -244,6 +245,18 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
     ++render_count_;
 }
 
+bool ViewRenderer::draw_part_between_frames() {
+    for (std::size_t i = 0; i < kViews; ++i) {
+        if (!drawing_parts_[i]) continue;
+        const render::Viewport viewport{0, 0, parts_[i]->width(), parts_[i]->height()};
+        draw_next_part(i, viewport, last_camera_, last_style_);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (!drawing_parts_[i]) picture_waiting_ = true;
+        return true;
+    }
+    return false;
+}
+
 void ViewRenderer::draw_whole(std::size_t i, const render::Viewport& viewport,
                               const render::OrbitCamera& camera, const render::DrawStyle& style,
                               bool preview) {
@@ -287,6 +300,7 @@ void ViewRenderer::draw_next_part(std::size_t i, const render::Viewport& viewpor
     parts_drawn_[i] += part_triangles_;
     ++part_draws_;
     part_ms_ += ms;
+    largest_part_ms_ = std::max(largest_part_ms_, ms);
     part_triangles_ = next_part_triangles(part_triangles_, drawn, ms);
     if (parts_drawn_[i] < views_[i].triangle_count()) return;
     parts_[i]->resolve();

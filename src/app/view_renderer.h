@@ -91,6 +91,14 @@ class ViewRenderer {
     // time), or one part.
     void render(int width, int height, const render::OrbitCamera& camera,
                 const render::DrawStyle& style);
+    // The next part of a view's whole mesh, as a render() would draw it, with the last render's
+    // camera and style: the window draws parts while it waits for its next frame, so a large mesh
+    // does not take a frame (the UI drawn and swapped, 10-20 ms of software GL) a part. False
+    // when no view is drawing parts. A view's last part leaves picture_waiting() true until the
+    // next render().
+    bool draw_part_between_frames();
+    // A view's whole mesh was finished between frames, and no frame has shown it yet.
+    bool picture_waiting() const { return picture_waiting_; }
     // A view does not show its whole mesh yet (it shows the preview, its mesh is still being
     // sent, or it waits for its picture): later render()s draw it even if nothing moves.
     bool needs_refine() const {
@@ -100,7 +108,7 @@ class ViewRenderer {
     bool sending() const { return next_part_[0] != kNoUpload || next_part_[1] != kNoUpload; }
     // The next render() has work: a part to send, or a view whose mesh changed to draw.
     bool has_pending_work() const { return sending() || dirty_[0] || dirty_[1]; }
-    // True while a view's whole mesh is being drawn in parts, a part a frame.
+    // True while a view's whole mesh is being drawn in parts, a part a frame or between frames.
     bool drawing_parts() const { return drawing_parts_[0] || drawing_parts_[1]; }
     // Triangles a part holds now (tests; it adapts to the time parts take).
     std::size_t part_triangles() const { return part_triangles_; }
@@ -117,6 +125,7 @@ class ViewRenderer {
     // Parts drawn (of both views) and the milliseconds they took, glFinish included.
     int part_draws() const { return part_draws_; }
     double part_ms() const { return part_ms_; }
+    double largest_part_ms() const { return largest_part_ms_; }
     // How long view `view` waits, still, before it draws its whole mesh (kQuiet unless backed off).
     std::chrono::milliseconds quiet(int view) const { return quiet_[std::size_t(view)]; }
     const render::UploadCounters& uploads(int view) const {
@@ -155,7 +164,8 @@ class ViewRenderer {
     std::array<std::shared_ptr<const PreviewMesh>, kViews> previews_; // uploaded
     std::array<int, kViews> view_draws_{}, preview_draws_{};
     int part_draws_ = 0;
-    double part_ms_ = 0;
+    double part_ms_ = 0, largest_part_ms_ = 0;
+    bool picture_waiting_ = false;
     render::OrbitCamera last_camera_;
     render::DrawStyle last_style_;
     int render_count_ = 0;

@@ -5,6 +5,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -31,17 +33,53 @@ void on_glfw_error(int code, const char* description) {
     g_glfw_error = std::string(description ? description : "unknown error") + text;
 }
 
+// What the window's callbacks reach through its user pointer.
+struct WindowState {
+    App* app = nullptr;
+    // The person's input or the worker's results since the loop last looked: a frame is due at
+    // once (set on the worker's thread too).
+    std::atomic<bool> event{false};
+};
+
+WindowState* state_of(GLFWwindow* window) {
+    return static_cast<WindowState*>(glfwGetWindowUserPointer(window));
+}
+
+void note_input(GLFWwindow* window) {
+    if (WindowState* state = state_of(window)) state->event = true;
+}
+
 void on_drop(GLFWwindow* window, int count, const char** paths) {
-    auto* app = static_cast<App*>(glfwGetWindowUserPointer(window));
+    note_input(window);
+    WindowState* state = state_of(window);
     std::vector<std::string> list(paths, paths + count);
-    if (app) app->on_drop(list);
+    if (state && state->app) state->app->on_drop(list);
 }
 
 // Key presses go to the app as events (ImGui 1.86 only sees the key's state at frame time).
 void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
-    auto* app = static_cast<App*>(glfwGetWindowUserPointer(window));
-    if (app && (action == GLFW_PRESS || action == GLFW_REPEAT))
-        app->key_pressed(key, (mods & GLFW_MOD_CONTROL) != 0, action == GLFW_REPEAT);
+    note_input(window);
+    WindowState* state = state_of(window);
+    if (state && state->app && (action == GLFW_PRESS || action == GLFW_REPEAT))
+        state->app->key_pressed(key, (mods & GLFW_MOD_CONTROL) != 0, action == GLFW_REPEAT);
+}
+
+// The other input only wakes the loop for a frame (ImGui's backend, installed after these, calls
+// them after its own; it has no cursor callback of its own in 1.86).
+void on_mouse_button(GLFWwindow* window, int, int, int) {
+    note_input(window);
+}
+void on_scroll(GLFWwindow* window, double, double) {
+    note_input(window);
+}
+void on_char(GLFWwindow* window, unsigned int) {
+    note_input(window);
+}
+void on_cursor(GLFWwindow* window, double, double) {
+    note_input(window);
+}
+void on_resize(GLFWwindow* window, int, int) {
+    note_input(window);
 }
 
 // The window's framebuffer (width x height pixels) cleared to the app's background, as each
@@ -127,11 +165,22 @@ int run_window(const WindowOptions& options) {
     // A person's window (and the stats session, which measures it) keeps its frames short;
     // a screenshot run only waits for the result.
     app_options.background_worker = options.screenshot_path.empty();
-    app_options.wake = [] { glfwPostEmptyEvent(); };
+    WindowState state;
+    app_options.wake = [&state] {
+        state.event = true;
+        glfwPostEmptyEvent();
+    };
     auto app = std::make_unique<App>(app_options);
-    glfwSetWindowUserPointer(glfw.window, app.get());
+    state.app = app.get();
+    glfwSetWindowUserPointer(glfw.window, &state);
     glfwSetDropCallback(glfw.window, on_drop);
-    glfwSetKeyCallback(glfw.window, on_key); // before ImGui's backend, which chains to it
+    // Before ImGui's backend, which chains to them.
+    glfwSetKeyCallback(glfw.window, on_key);
+    glfwSetMouseButtonCallback(glfw.window, on_mouse_button);
+    glfwSetScrollCallback(glfw.window, on_scroll);
+    glfwSetCharCallback(glfw.window, on_char);
+    glfwSetCursorPosCallback(glfw.window, on_cursor);
+    glfwSetFramebufferSizeCallback(glfw.window, on_resize);
     ImGui_ImplGlfw_InitForOpenGL(glfw.window, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
     // What software GL does once, before the first frame rather than in it (60-190 ms there on
@@ -159,18 +208,34 @@ int run_window(const WindowOptions& options) {
         if (!options.screenshot_path.empty() || (stats && stats->turning())) {
             glfwPollEvents();
         } else {
-            double interval = app->frame_interval();
-            // Once the comparison is in, the stats session acts between frames, with no events
-            // to wake the loop; until then it measures the window as a person would have it.
-            if (stats && stats->acting()) interval = std::min(interval, App::kAnimatingFrame);
-            const double wait = interval - std::chrono::duration<double>(
-                                               std::chrono::steady_clock::now() - last_frame)
-                                               .count();
-            if (wait > 0)
+            const auto due_in = [&] {
+                double interval = app->frame_interval();
+                // Once the comparison is in, the stats session acts between frames, with no
+                // events to wake the loop; until then it measures the window as a person would
+                // have it.
+                if (stats && stats->acting()) interval = std::min(interval, App::kAnimatingFrame);
+                return interval -
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_frame)
+                           .count();
+            };
+            // A large mesh's parts go on while the loop waits, one at a time (each within the
+            // views' part budget), until a frame is due or an event comes. While the worker
+            // computes they come at the animating rate, as one a frame did: a new iteration cuts
+            // a series short, so faster parts would mostly be drawn for nothing.
+            double wait = due_in();
+            while (wait > 0 && !state.event && app->draw_part_between_frames()) {
+                if (app->worker().busy())
+                    glfwWaitEventsTimeout(std::min(App::kAnimatingFrame, wait));
+                else
+                    glfwPollEvents();
+                wait = due_in();
+            }
+            if (wait > 0 && !state.event)
                 glfwWaitEventsTimeout(wait);
             else
                 glfwPollEvents();
         }
+        state.event = false;
         last_frame = std::chrono::steady_clock::now();
         if (glfwGetWindowAttrib(glfw.window, GLFW_ICONIFIED)) {
             glfwWaitEventsTimeout(0.1);

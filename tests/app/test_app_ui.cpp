@@ -901,6 +901,31 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
         EXPECT_GT(covered, one.size() / 4 / 4) << "the sphere is in the picture";
         EXPECT_TRUE(parts == one) << "the parts' picture differs from the one drawn in one piece"
                                   << (wireframe ? " (wireframe)" : "");
+
+        // The same parts drawn between frames, as the window draws them while it waits: the
+        // same picture, waiting for the next render to be shown.
+        ViewRenderer between;
+        between.set_mesh(0, mesh);
+        between.render(200, 150, camera, style); // the preview
+        std::this_thread::sleep_for(ViewRenderer::kQuiet + std::chrono::milliseconds(50));
+        between.render(200, 150, camera, style); // the parts start
+        ASSERT_TRUE(between.drawing_parts());
+        const int renders_before = between.render_count();
+        int parts_between = 0;
+        while (between.draw_part_between_frames() && parts_between < 10000) ++parts_between;
+        EXPECT_GE(parts_between, 1);
+        EXPECT_EQ(between.part_draws(), parts_between) << "each part once";
+        EXPECT_FALSE(between.drawing_parts());
+        EXPECT_FALSE(between.needs_refine());
+        EXPECT_TRUE(between.picture_waiting());
+        EXPECT_EQ(between.view_draws(0), 1);
+        EXPECT_EQ(between.render_count(), renders_before) << "no render between frames";
+        EXPECT_TRUE(view_pixels(between, 0, 200, 150) == one)
+            << "the parts drawn between frames differ" << (wireframe ? " (wireframe)" : "");
+        EXPECT_FALSE(between.draw_part_between_frames()) << "nothing left to draw";
+        between.render(200, 150, camera, style);
+        EXPECT_FALSE(between.picture_waiting()) << "the frame shows it";
+        EXPECT_EQ(between.render_count(), renders_before) << "and draws nothing";
     }
 
     // Another mesh while the parts are drawn: they start again, after twice the wait (the parts
