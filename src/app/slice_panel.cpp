@@ -105,9 +105,6 @@ void SlicePanel::update_volume(const JobResults& results, InsideIs inside) {
     iso_ = results.iso;
     inside_ = inside;
     const Volume& v = *source_->volume;
-    const Segmentation s =
-        source_->mask ? *source_->mask : segment_threshold(v, results.iso, inside);
-    segmentation_ = s.inside;
     scene_.segmentation = render::segmentation_legend(*source_, results.iso);
     if (new_volume) {
         plane_.index = slice_count(v, plane_.axis) / 2;
@@ -221,7 +218,9 @@ void SlicePanel::draw(const JobResults& results, InsideIs inside, int iteration,
     scene_.spacing = {v.spacing[axes.x], v.spacing[axes.y]};
     if (texture_stale_) {
         const Slice slice = extract_slice(v, plane_);
-        scene_.inside = extract_slice_mask(segmentation_, v.dims, plane_);
+        // The label's mask, or the slice's own samples thresholded (not the whole volume's).
+        scene_.inside = source_->mask ? extract_slice_mask(source_->mask->inside, v.dims, plane_)
+                                      : threshold_slice(slice, iso_, inside_);
         texture_.upload(slice_pixels(slice, window_level_, scene_.inside), scene_.size.x,
                         scene_.size.y);
         texture_stale_ = false;

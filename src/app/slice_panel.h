@@ -73,7 +73,6 @@ class SlicePanel {
     std::shared_ptr<const Source> source_;
     float iso_ = 0.0f;
     InsideIs inside_ = InsideIs::Above;
-    std::vector<std::uint8_t> segmentation_; // per sample
     SlicePlane plane_;
     WindowLevel window_level_;
     int preset_ = 0; // index in the WindowPreset names

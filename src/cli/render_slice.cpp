@@ -139,8 +139,6 @@ int run_slice_render(const SliceRender& r) {
     PipelineOptions net_options = options;
     net_options.relax.iso = iso;
     net_options.measure.reference_volume = m.reference.volume;
-    const Segmentation segmentation =
-        source.mask ? *source.mask : segment_threshold(volume, iso, inside);
     std::shared_ptr<const SurfaceNet> net;
     std::shared_ptr<const GreyField> field;
     std::vector<glm::vec3> before, after;
@@ -157,9 +155,12 @@ int run_slice_render(const SliceRender& r) {
         iteration = it.iteration;
         return true;
     };
+    const Progress net_progress = progress.stage(std::string(label_of(net_method)));
     const MethodResult relaxed =
-        run_surface_net(volume, segmentation, net_options, m.reference.distance,
-                        progress.stage(std::string(label_of(net_method))), observer);
+        source.mask
+            ? run_surface_net(volume, *source.mask, net_options, m.reference.distance, net_progress,
+                              observer)
+            : run_surface_net(volume, net_options, m.reference.distance, net_progress, observer);
     require_surface(relaxed, m);
 
     render::SliceFigure figure;
@@ -169,7 +170,8 @@ int run_slice_render(const SliceRender& r) {
     const glm::ivec2 axes = plane_axes(requested.axis);
     scene.spacing = {volume.spacing[axes.x], volume.spacing[axes.y]};
     const Slice slice = extract_slice(volume, requested);
-    scene.inside = extract_slice_mask(segmentation.inside, volume.dims, requested);
+    scene.inside = source.mask ? extract_slice_mask(source.mask->inside, volume.dims, requested)
+                               : threshold_slice(slice, iso, inside);
     scene.segmentation = render::segmentation_legend(source, iso);
     const WindowLevel window = wl.value_or(window_preset(r.slice.preset, volume));
     figure.pixels = slice_pixels(slice, window, scene.inside);

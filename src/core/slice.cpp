@@ -120,6 +120,13 @@ std::vector<std::uint8_t> extract_slice_mask(std::span<const std::uint8_t> mask,
     return out;
 }
 
+std::vector<std::uint8_t> threshold_slice(const Slice& slice, float iso, InsideIs rule) {
+    std::vector<std::uint8_t> out(slice.values.size());
+    std::transform(slice.values.begin(), slice.values.end(), out.begin(),
+                   [&](float value) { return is_inside(value, iso, rule) ? 1 : 0; });
+    return out;
+}
+
 namespace {
 
 // The cross-section of a mesh whose vertex v lies at index-space point to_index(v): the

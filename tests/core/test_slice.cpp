@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -39,6 +40,28 @@ TEST(Slice, SamplesOfEachAxis) {
         extract_slice_mask(seg.inside, v.dims, {SliceAxis::Axial, 2});
     EXPECT_EQ(mask[0], v.at(0, 0, 2) >= 60.0f);
     EXPECT_EQ(mask.size(), 20u);
+}
+
+// A slice's own samples thresholded give the flags of the thresholded volume's slice, NaN
+// outside, for either rule and every axis (the slice view thresholds only what it shows).
+TEST(Slice, ThresholdedSliceIsTheSegmentationsSlice) {
+    Volume v = make_volume({7, 5, 6});
+    for (std::size_t i = 0; i < v.samples.size(); ++i) v.samples[i] = float((i * 37) % 101);
+    v.samples[v.index(2, 3, 4)] = std::numeric_limits<float>::quiet_NaN();
+    v.samples[v.index(5, 1, 2)] = 50.0f; // exactly at the iso: inside for either rule
+    for (const InsideIs rule : {InsideIs::Above, InsideIs::Below}) {
+        const Segmentation seg = segment_threshold(v, 50.0f, rule);
+        for (const SliceAxis axis : {SliceAxis::Axial, SliceAxis::Coronal, SliceAxis::Sagittal})
+            for (int index = 0; index < slice_count(v, axis); ++index) {
+                const SlicePlane plane{axis, index};
+                EXPECT_EQ(threshold_slice(extract_slice(v, plane), 50.0f, rule),
+                          extract_slice_mask(seg.inside, v.dims, plane))
+                    << name_of(axis) << " " << index;
+            }
+    }
+    const std::vector<std::uint8_t> axial =
+        threshold_slice(extract_slice(v, {SliceAxis::Axial, 4}), 50.0f, InsideIs::Below);
+    EXPECT_EQ(axial[3 * 7 + 2], 0) << "NaN is outside";
 }
 
 TEST(Slice, CrossSectionOfTheSmallSphereIsItsCircle) {
