@@ -1,6 +1,7 @@
 // Slices: the samples of a plane, a mesh's cross-section, the net's layer, window/level.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -114,6 +115,33 @@ TEST(Slice, NetLayerNodesLinksAndSurfaceCells) {
     EXPECT_EQ(s.surface_cells.size(), s.nodes.size()); // one piece per cell on a sphere
     // The last sample plane uses the last layer of cells.
     EXPECT_EQ(net_in_slice(net, {SliceAxis::Axial, 11}).layer, 10);
+}
+
+// The MR preset's percentiles are the signal's values of those ranks, exactly as ordering a copy
+// of the signal (finite, non-zero) gives them: with NaN, infinities, zeros, repeats, negative
+// values and most samples in a narrow band (many in the percentiles' bins).
+TEST(WindowLevel, MrPercentilesAreTheSignalsRanks) {
+    Volume v = make_volume({40, 30, 20});
+    std::uint32_t state = 12345;
+    for (float& x : v.samples) {
+        state = state * 1664525u + 1013904223u;
+        const std::uint32_t r = state >> 8;
+        x = r % 7 == 0 ? 0.0f : r % 11 == 0 ? -float(r % 300) : 100.0f + float(r % 100000) * 1e-5f;
+    }
+    v.samples[3] = std::numeric_limits<float>::quiet_NaN();
+    v.samples[5] = std::numeric_limits<float>::infinity();
+    v.samples[7] = 5000.0f;
+    std::vector<float> signal;
+    for (const float x : v.samples)
+        if (std::isfinite(x) && x != 0.0f) signal.push_back(x);
+    std::sort(signal.begin(), signal.end());
+    const auto at = [&](double q) { return signal[std::size_t(q * double(signal.size() - 1))]; };
+    const WindowLevel mr = window_preset(WindowPreset::Mr, v);
+    const float lo = at(0.01), hi = at(0.99);
+    EXPECT_EQ(mr, (WindowLevel{hi - lo, 0.5f * (lo + hi)}));
+    // No signal: the full range.
+    Volume zeros = make_volume({4, 4, 4});
+    EXPECT_EQ(window_preset(WindowPreset::Mr, zeros), window_preset(WindowPreset::Full, zeros));
 }
 
 TEST(WindowLevel, GreysAndPresets) {
