@@ -218,9 +218,7 @@ void SlicePanel::draw(const JobResults& results, InsideIs inside, int iteration,
     scene_.spacing = {v.spacing[axes.x], v.spacing[axes.y]};
     if (texture_stale_) {
         const Slice slice = extract_slice(v, plane_);
-        // The label's mask, or the slice's own samples thresholded (not the whole volume's).
-        scene_.inside = source_->mask ? extract_slice_mask(source_->mask->inside, v.dims, plane_)
-                                      : threshold_slice(slice, iso_, inside_);
+        scene_.inside = slice_inside(slice, source_->mask.get(), iso_, inside_);
         texture_.upload(slice_pixels(slice, window_level_, scene_.inside), scene_.size.x,
                         scene_.size.y);
         texture_stale_ = false;

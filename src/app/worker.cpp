@@ -523,10 +523,8 @@ void Worker::run_job(const JobRequest& request, std::uint64_t generation, std::s
             return true;
         };
         observer.relax_progress = stage_progress(Stage::Relax, stop);
-        MethodResult net = mask ? run_surface_net(volume, *mask, job.options, job.reference,
-                                                  stage_progress(Stage::Net, stop), observer)
-                                : run_surface_net(volume, job.options, job.reference,
-                                                  stage_progress(Stage::Net, stop), observer);
+        MethodResult net = run_surface_net(volume, mask, job.options, job.reference,
+                                           stage_progress(Stage::Net, stop), observer);
         const bool converged = net.metrics.converged;
         // The final mesh's distance to MC's surface, as the CLI's table reports it.
         net.metrics.to_marching_cubes = distance_to_mesh(net.mesh, cached_mc_->mesh, volume);

@@ -155,12 +155,9 @@ int run_slice_render(const SliceRender& r) {
         iteration = it.iteration;
         return true;
     };
-    const Progress net_progress = progress.stage(std::string(label_of(net_method)));
     const MethodResult relaxed =
-        source.mask
-            ? run_surface_net(volume, *source.mask, net_options, m.reference.distance, net_progress,
-                              observer)
-            : run_surface_net(volume, net_options, m.reference.distance, net_progress, observer);
+        run_surface_net(volume, source.mask.get(), net_options, m.reference.distance,
+                        progress.stage(std::string(label_of(net_method))), observer);
     require_surface(relaxed, m);
 
     render::SliceFigure figure;
@@ -170,8 +167,7 @@ int run_slice_render(const SliceRender& r) {
     const glm::ivec2 axes = plane_axes(requested.axis);
     scene.spacing = {volume.spacing[axes.x], volume.spacing[axes.y]};
     const Slice slice = extract_slice(volume, requested);
-    scene.inside = source.mask ? extract_slice_mask(source.mask->inside, volume.dims, requested)
-                               : threshold_slice(slice, iso, inside);
+    scene.inside = slice_inside(slice, source.mask.get(), iso, inside);
     scene.segmentation = render::segmentation_legend(source, iso);
     const WindowLevel window = wl.value_or(window_preset(r.slice.preset, volume));
     figure.pixels = slice_pixels(slice, window, scene.inside);

@@ -116,7 +116,7 @@ MethodResult run_marching_cubes(const Volume& volume, const PipelineOptions& opt
 MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress) {
-    return run_surface_net(grey, segmentation, options, reference, progress, NetObserver{});
+    return run_surface_net(grey, &segmentation, options, reference, progress, NetObserver{});
 }
 
 namespace {
@@ -151,22 +151,15 @@ MethodResult relax_net(const Volume& grey, std::shared_ptr<const SurfaceNet> net
 
 } // namespace
 
-MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
+MethodResult run_surface_net(const Volume& grey, const Segmentation* mask,
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress, const NetObserver& observer) {
     const auto start = std::chrono::steady_clock::now();
-    auto net = std::make_shared<const SurfaceNet>(build_surface_net(segmentation, progress));
-    return relax_net(grey, std::move(net), start, options, reference, progress, observer);
-}
-
-MethodResult run_surface_net(const Volume& grey, const PipelineOptions& options,
-                             const DistanceFunction& reference, const Progress& progress,
-                             const NetObserver& observer) {
-    // The threshold classified as the net is built: no byte a voxel (100 MiB on a
-    // 512 x 512 x 400 CT) for the relaxation and the metrics to find in use.
-    const auto start = std::chrono::steady_clock::now();
+    // Without a mask the threshold is classified as the net is built: no byte a voxel (100 MiB
+    // on a 512 x 512 x 400 CT) for the relaxation and the metrics to find in use.
     auto net = std::make_shared<const SurfaceNet>(
-        build_surface_net(grey, options.iso, options.inside, progress));
+        mask ? build_surface_net(*mask, progress)
+             : build_surface_net(grey, options.iso, options.inside, progress));
     return relax_net(grey, std::move(net), start, options, reference, progress, observer);
 }
 
@@ -179,8 +172,7 @@ MethodResult run_method(Method method, const Volume& grey, const Segmentation* m
     // The label's mask, where there is one, decides the topology.
     if (method == Method::MarchingCubes)
         return measured_marching_cubes(grey, mask, options, reference, progress);
-    if (mask) return run_surface_net(grey, *mask, options, reference, progress);
-    return run_surface_net(grey, options, reference, progress, NetObserver{});
+    return run_surface_net(grey, mask, options, reference, progress, NetObserver{});
 }
 
 namespace {

@@ -134,16 +134,12 @@ struct NetObserver {
 };
 
 // run_surface_net, observed: the same result, with `observer` told of the net and of every
-// iteration as they happen.
-MethodResult run_surface_net(const Volume& grey, const Segmentation& segmentation,
+// iteration as they happen. Without `mask` the grey values are thresholded at options.iso /
+// options.inside as the net is built (the net of segment_threshold's mask, node for node, without
+// its byte a voxel).
+MethodResult run_surface_net(const Volume& grey, const Segmentation* mask,
                              const PipelineOptions& options, const DistanceFunction& reference,
                              const Progress& progress, const NetObserver& observer);
-
-// run_surface_net, observed, on the grey values thresholded at options.iso / options.inside:
-// the net of segment_threshold's mask, node for node, classified as it is built (no byte a voxel).
-MethodResult run_surface_net(const Volume& grey, const PipelineOptions& options,
-                             const DistanceFunction& reference, const Progress& progress,
-                             const NetObserver& observer);
 
 // One method on one volume, as the CLI, the renderer and the app run it. `options.iso` is the
 // grey iso (also the gradient term's: relax.iso is set to it) and `method` picks the net's

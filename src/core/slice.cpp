@@ -120,7 +120,9 @@ std::vector<std::uint8_t> extract_slice_mask(std::span<const std::uint8_t> mask,
     return out;
 }
 
-std::vector<std::uint8_t> threshold_slice(const Slice& slice, float iso, InsideIs rule) {
+std::vector<std::uint8_t> slice_inside(const Slice& slice, const Segmentation* mask, float iso,
+                                       InsideIs rule) {
+    if (mask) return extract_slice_mask(mask->inside, mask->dims, slice.plane);
     std::vector<std::uint8_t> out(slice.values.size());
     std::transform(slice.values.begin(), slice.values.end(), out.begin(),
                    [&](float value) { return is_inside(value, iso, rule) ? 1 : 0; });

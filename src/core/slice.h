@@ -57,10 +57,11 @@ Slice extract_slice(const Volume& volume, const SlicePlane& plane);
 // The same for a per-sample mask (a Segmentation's inside flags), 0/1 per slice sample.
 std::vector<std::uint8_t> extract_slice_mask(std::span<const std::uint8_t> mask, glm::ivec3 dims,
                                              const SlicePlane& plane);
-// The inside flags of a slice's own samples by segment_threshold's rule (NaN is outside): the
-// 0/1 that extract_slice_mask takes from the thresholded volume, without a byte for every sample
-// of the volume (100 MiB on a clinical CT, for one slice).
-std::vector<std::uint8_t> threshold_slice(const Slice& slice, float iso, InsideIs rule);
+// The inside flags (0/1) of a slice's samples: the mask's there, or without a mask the slice's own
+// grey values by segment_threshold's rule (NaN is outside), the flags extract_slice_mask takes
+// from the thresholded volume without a byte for every sample of it (100 MiB on a clinical CT).
+std::vector<std::uint8_t> slice_inside(const Slice& slice, const Segmentation* mask, float iso,
+                                       InsideIs rule);
 
 struct Segment2 {
     glm::vec2 a{0.0f}, b{0.0f}; // slice coordinates

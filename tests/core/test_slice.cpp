@@ -44,7 +44,8 @@ TEST(Slice, SamplesOfEachAxis) {
 }
 
 // A slice's own samples thresholded give the flags of the thresholded volume's slice, NaN
-// outside, for either rule and every axis (the slice view thresholds only what it shows).
+// outside, for either rule and every axis (the slice view thresholds only what it shows); with a
+// mask, the mask's flags there, whatever the grey values say.
 TEST(Slice, ThresholdedSliceIsTheSegmentationsSlice) {
     Volume v = make_volume({7, 5, 6});
     for (std::size_t i = 0; i < v.samples.size(); ++i) v.samples[i] = float((i * 37) % 101);
@@ -55,13 +56,16 @@ TEST(Slice, ThresholdedSliceIsTheSegmentationsSlice) {
         for (const SliceAxis axis : {SliceAxis::Axial, SliceAxis::Coronal, SliceAxis::Sagittal})
             for (int index = 0; index < slice_count(v, axis); ++index) {
                 const SlicePlane plane{axis, index};
-                EXPECT_EQ(threshold_slice(extract_slice(v, plane), 50.0f, rule),
+                EXPECT_EQ(slice_inside(extract_slice(v, plane), nullptr, 50.0f, rule),
                           extract_slice_mask(seg.inside, v.dims, plane))
                     << name_of(axis) << " " << index;
+                EXPECT_EQ(slice_inside(extract_slice(v, plane), &seg, 200.0f, InsideIs::Above),
+                          extract_slice_mask(seg.inside, v.dims, plane))
+                    << "the mask's flags, " << name_of(axis) << " " << index;
             }
     }
     const std::vector<std::uint8_t> axial =
-        threshold_slice(extract_slice(v, {SliceAxis::Axial, 4}), 50.0f, InsideIs::Below);
+        slice_inside(extract_slice(v, {SliceAxis::Axial, 4}), nullptr, 50.0f, InsideIs::Below);
     EXPECT_EQ(axial[3 * 7 + 2], 0) << "NaN is outside";
 }
 
