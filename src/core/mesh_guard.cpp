@@ -65,13 +65,17 @@ struct Points {
 };
 
 float polygon_quality(const SurfaceNet& net, std::uint32_t id, Points p, bool along_ac) {
-    Triangle t[2];
-    const int count = split_polygon(net, id, along_ac, t);
-    float q = 1.0f;
-    for (int k = 0; k < count; ++k)
-        q = std::min(q,
-                     sliver_quality(p.world_at(t[k][0]), p.world_at(t[k][1]), p.world_at(t[k][2])));
-    return q;
+    if (id >= net.quads.size()) {
+        const auto& t = net.triangles[id - net.quads.size()];
+        return std::min(1.0f, sliver_quality(p.world_at(t[0]), p.world_at(t[1]), p.world_at(t[2])));
+    }
+    // A quad's corners read once, its two triangles taken from them in place.
+    const auto& q = net.quads[id];
+    const glm::vec3 c[4] = {p.world_at(q[0]), p.world_at(q[1]), p.world_at(q[2]), p.world_at(q[3])};
+    float quality = 1.0f;
+    for (const auto& k : kQuadSplitCorners[along_ac ? 1 : 0])
+        quality = std::min(quality, sliver_quality(c[k[0]], c[k[1]], c[k[2]]));
+    return quality;
 }
 
 // A triangle of the cell being checked, with what the pair test needs precomputed.
@@ -425,6 +429,16 @@ void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spac
     });
 }
 
+// Marks the obtuse corner of triangle (a, b, c) (points in shape space, nodes `nodes`) when it is
+// a sliver.
+void mark_sliver_apex(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
+                      const std::uint32_t (&nodes)[3], std::vector<std::uint8_t>& apex) {
+    if (sliver_quality(a, b, c) >= float(kSliverQuality)) return;
+    const glm::vec3* p[3] = {&a, &b, &c};
+    for (int k = 0; k < 3; ++k)
+        if (glm::dot(*p[(k + 1) % 3] - *p[k], *p[(k + 2) % 3] - *p[k]) < 0.0f) mark(apex, nodes[k]);
+}
+
 } // namespace
 
 std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule rule,
@@ -433,25 +447,28 @@ std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule
     if (!splits.empty() && splits.size() != net.quads.size())
         throw std::invalid_argument("sliver apexes: splits are not one per quad");
     std::vector<std::uint8_t> apex(net.node_count(), 0);
-    const std::size_t polygons = net.quads.size() + net.triangles.size();
-    for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            const auto id = std::uint32_t(i);
-            Triangle t[2];
-            const bool along = id < net.quads.size() &&
-                               (splits.empty() ? splits_along_ac(net, id, positions, rule, shape)
-                                               : splits[id] != 0);
-            const int count = split_polygon(net, id, along, t);
-            for (int j = 0; j < count; ++j) {
-                glm::vec3 p[3];
-                for (int c = 0; c < 3; ++c) p[c] = positions[t[j][std::size_t(c)]] * shape;
-                if (sliver_quality(p[0], p[1], p[2]) >= float(kSliverQuality)) continue;
-                for (int c = 0; c < 3; ++c)
-                    if (glm::dot(p[(c + 1) % 3] - p[c], p[(c + 2) % 3] - p[c]) < 0.0f)
-                        mark(apex, t[j][std::size_t(c)]);
+    const std::size_t quads = net.quads.size();
+    // Every step's first pass over all triangles, which nearly never meets a sliver: a quad's four
+    // corners are scaled once and its two triangles taken from them in place (the triangles
+    // copied out of split_polygon stalled on their own stores).
+    for_each_chunk(
+        quads + net.triangles.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < std::min(e, quads); ++i) {
+                const auto& q = net.quads[i];
+                const glm::vec3 p[4] = {positions[q[0]] * shape, positions[q[1]] * shape,
+                                        positions[q[2]] * shape, positions[q[3]] * shape};
+                const bool along =
+                    splits.empty() ? splits_along_ac(net, std::uint32_t(i), positions, rule, shape)
+                                   : splits[i] != 0;
+                for (const auto& c : kQuadSplitCorners[along ? 1 : 0])
+                    mark_sliver_apex(p[c[0]], p[c[1]], p[c[2]], {q[c[0]], q[c[1]], q[c[2]]}, apex);
             }
-        }
-    });
+            for (std::size_t i = std::max(b, quads); i < e; ++i) {
+                const auto& t = net.triangles[i - quads];
+                mark_sliver_apex(positions[t[0]] * shape, positions[t[1]] * shape,
+                                 positions[t[2]] * shape, {t[0], t[1], t[2]}, apex);
+            }
+        });
     return apex;
 }
 

@@ -170,21 +170,22 @@ float step_scale(const RelaxOptions& options, int iteration) {
     return std::exp2(-float(iteration - options.damping_start) / options.damping_halving);
 }
 
-float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                     SubStep sub_step, std::span<const glm::vec3> old_positions,
-                     std::span<glm::vec3> new_positions, std::span<const std::uint8_t> splits) {
+void relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                    SubStep sub_step, std::span<const glm::vec3> old_positions,
+                    std::span<glm::vec3> new_positions, std::span<const std::uint8_t> splits) {
     // Jacobi: every node reads only old positions, so chunks of nodes run independently.
     constexpr std::size_t kChunk = 4096;
     const float margin = cell_margin(grey);
     const std::vector<std::uint8_t> at_sliver =
         sliver_flags(net, grey, options, sub_step, old_positions, splits);
-    std::vector<float> chunk_max(chunk_count(old_positions.size(), kChunk), 0.0f);
+    // The grey samples of a node a few ahead are fetched while this one is worked out, when the
+    // sub-step reads them.
+    const bool reads_grey =
+        grey != nullptr && sub_step.gradient && options.mode != RelaxMode::Averaging;
+    const Volume* volume = reads_grey ? grey->volume : nullptr;
     for_each_chunk(
-        old_positions.size(), kChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-            float local = 0.0f;
-            // The grey samples of a node a few ahead are fetched while this one is worked out.
+        old_positions.size(), kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
             constexpr std::size_t kAhead = 8;
-            const Volume* volume = grey != nullptr && sub_step.gradient ? grey->volume : nullptr;
             for (std::size_t i = begin; i < end; ++i) {
                 if (volume != nullptr && i + kAhead < end)
                     prefetch_cell(*volume, old_positions[i + kAhead]);
@@ -195,12 +196,8 @@ float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOp
                 const NodeBox box = inner_box(node_box(net, i), margin);
                 new_positions[i] =
                     constrain_move(old_positions[i], move, box.lo, box.hi, options.constraint);
-                local = std::max(local, glm::length(new_positions[i] - old_positions[i]));
             }
-            chunk_max[chunk] = local;
         });
-    if (chunk_max.empty()) return 0.0f;
-    return *std::max_element(chunk_max.begin(), chunk_max.end());
 }
 
 GreyField make_grey_field(const Volume& volume, const RelaxOptions& options) {
@@ -223,17 +220,17 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi
                          Constraint constraint) {
     if (!std::isfinite(move.x) || !std::isfinite(move.y) || !std::isfinite(move.z)) return p;
     if (constraint == Constraint::Clip) return glm::clamp(p + move, lo, hi);
-    // A flat box (a link node's face) takes only the move within it.
-    for (int a = 0; a < 3; ++a)
-        if (!(hi[a] > lo[a])) move[a] = 0.0f;
     // Ray-box (eq. 2's c): the largest t in [0, 1] with p + t move inside the cell, so the node
-    // keeps its direction of motion and stops on the cell boundary.
+    // keeps its direction of motion and stops on the cell boundary. A flat box (a link node's
+    // face) takes only the move within it. Along each axis the face the move heads for gives the
+    // larger of the two quotients (the other is not positive, and rounding keeps the order), so
+    // there is no branch on the move's sign, which is random: its mispredictions were a sixth of
+    // a sub-step. A move of 0 along an axis (rare, so well predicted) sets no bound.
     float t = 1.0f;
     for (int a = 0; a < 3; ++a) {
-        if (move[a] > 0.0f)
-            t = std::min(t, (hi[a] - p[a]) / move[a]);
-        else if (move[a] < 0.0f)
-            t = std::min(t, (lo[a] - p[a]) / move[a]);
+        if (!(hi[a] > lo[a])) move[a] = 0.0f;
+        const float reach = std::max((hi[a] - p[a]) / move[a], (lo[a] - p[a]) / move[a]);
+        if (move[a] != 0.0f) t = std::min(t, reach);
     }
     t = std::max(t, 0.0f);
     // Rounding can put the end point a hair outside; clamping only removes that hair.

@@ -118,11 +118,11 @@ NodeBox relax_box(const SurfaceNet& net, const GreyField* grey, std::size_t node
 float step_scale(const RelaxOptions& options, int iteration);
 
 // One sub-step for every node (Jacobi: from `old_positions` only): the moves of
-// node_move_terms, constrained to relax_box, into `new_positions`; returns the largest move.
-// No damping and no mesh check (relax_step adds them). `splits` as sliver_flags'.
-float relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
-                     SubStep sub_step, std::span<const glm::vec3> old_positions,
-                     std::span<glm::vec3> new_positions, std::span<const std::uint8_t> splits = {});
+// node_move_terms, constrained to relax_box, into `new_positions`. No damping and no mesh check
+// (relax_step adds them, and measures the moves once they are final). `splits` as sliver_flags'.
+void relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
+                    SubStep sub_step, std::span<const glm::vec3> old_positions,
+                    std::span<glm::vec3> new_positions, std::span<const std::uint8_t> splits = {});
 
 // Iteration `iteration` (1 for the first): computes every node's new position from
 // `old_positions` into `new_positions` (same size) and returns the largest move length

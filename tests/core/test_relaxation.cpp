@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -58,6 +59,47 @@ TEST(Constraint, RayBoxShortensAlongTheMove) {
         constrain_move(p, {0.1f, -0.2f, 0.3f}, glm::ivec3(0), Constraint::RayBox);
     EXPECT_NEAR(glm::distance(inside, p + glm::vec3(0.1f, -0.2f, 0.3f)), 0.0f, 1e-6f);
     EXPECT_EQ(constrain_move(p, {NAN, 0, 0}, glm::ivec3(0), Constraint::RayBox), p);
+}
+
+// The ray-box rule as eq. 2's c states it, one face per axis chosen by the move's sign.
+glm::vec3 ray_box_by_sign(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi) {
+    for (int a = 0; a < 3; ++a)
+        if (!(hi[a] > lo[a])) move[a] = 0.0f;
+    float t = 1.0f;
+    for (int a = 0; a < 3; ++a) {
+        if (move[a] > 0.0f) t = std::min(t, (hi[a] - p[a]) / move[a]);
+        if (move[a] < 0.0f) t = std::min(t, (lo[a] - p[a]) / move[a]);
+    }
+    return glm::clamp(p + std::max(t, 0.0f) * move, lo, hi);
+}
+
+// constrain_move takes no branch on the signs of the move; the same bits as choosing the face
+// by sign, also for moves of +0 and -0, points on a face, flat boxes and points outside.
+TEST(Constraint, RayBoxGivesTheBitsOfTheFaceChosenBySign) {
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const float specials[] = {0.0f, -0.0f, 1e-30f, -1e-30f, 1e-3f, -1e-3f, 0.7f, -0.7f, 3.0f};
+    int on_face = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        glm::vec3 lo, hi, p, move;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = float(int(rng() % 5)) + (rng() % 2 == 0 ? 0.0f : 0.25f);
+            hi[a] = rng() % 8 == 0 ? lo[a] : lo[a] + (rng() % 2 == 0 ? 1.0f : 0.5f);
+            const unsigned where = rng() % 6;
+            p[a] = where == 0   ? lo[a]
+                   : where == 1 ? hi[a]
+                   : where == 2 ? lo[a] - 0.1f
+                                : lo[a] + unit(rng) * (hi[a] - lo[a]);
+            on_face += where < 2 ? 1 : 0;
+            move[a] = rng() % 3 == 0 ? specials[rng() % 9] : 2.0f * unit(rng) - 1.0f;
+        }
+        const glm::vec3 got = constrain_move(p, move, lo, hi, Constraint::RayBox);
+        const glm::vec3 want = ray_box_by_sign(p, move, lo, hi);
+        ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+            << "trial " << trial << ": p " << p.x << " " << p.y << " " << p.z << ", move " << move.x
+            << " " << move.y << " " << move.z;
+    }
+    EXPECT_GT(on_face, 1000);
 }
 
 TEST(Relaxation, NodesNeverLeaveTheirCells) {
@@ -439,6 +481,46 @@ TEST(Relaxation, DampingBringsEveryNodeToRest) {
         EXPECT_LE(r.max_moves[k],
                   std::sqrt(3.0f) * std::exp2(-float(int(k) + 1 - o.damping_start) / 5.0f) + 1e-6f);
     EXPECT_LE(r.max_moves.size(), 60u);
+}
+
+// sliver_apexes marks exactly the obtuse corners of the triangulated mesh's slivers (shape
+// space), with the splits worked out or given.
+TEST(MeshGuard, SliverApexesAreTheObtuseCornersOfTheSlivers) {
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::size_t apexes = 0;
+    for (int trial = 0; trial < 4; ++trial) {
+        const glm::vec3 spacing = trial % 2 == 1 ? glm::vec3(1.0f, 1.0f, 3.0f) : glm::vec3(1.0f);
+        const BlobNet blob = blob_net(rng, spacing);
+        const SurfaceNet& net = blob.net;
+        ASSERT_FALSE(net.quads.empty());
+        // Anywhere in each node's cell: plenty of slivers.
+        std::vector<glm::vec3> p(net.node_count());
+        for (std::size_t i = 0; i < p.size(); ++i)
+            p[i] = glm::vec3(net.cells[i]) + glm::vec3(unit(rng), unit(rng), unit(rng));
+        for (TriangulationRule rule :
+             {TriangulationRule::ShorterDiagonal, TriangulationRule::Delaunay}) {
+            const Mesh mesh = triangulate(net, p, rule, spacing);
+            std::vector<std::uint8_t> expected(p.size(), 0);
+            for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+                const std::uint32_t* t = &mesh.indices[3 * f];
+                const glm::vec3 c[3] = {p[t[0]] * spacing, p[t[1]] * spacing, p[t[2]] * spacing};
+                if (triangle_shape(c[0], c[1], c[2]).quality >= float(kSliverQuality)) continue;
+                for (int k = 0; k < 3; ++k)
+                    if (glm::dot(c[(k + 1) % 3] - c[k], c[(k + 2) % 3] - c[k]) < 0.0f)
+                        expected[t[k]] = 1;
+            }
+            std::vector<std::uint8_t> splits(net.quads.size());
+            for (std::size_t q = 0; q < net.quads.size(); ++q) {
+                const auto& c = net.quads[q];
+                splits[q] = quad_splits_along_ac(p[c[0]], p[c[1]], p[c[2]], p[c[3]], rule, spacing);
+            }
+            EXPECT_EQ(sliver_apexes(net, rule, spacing, p), expected) << "trial " << trial;
+            EXPECT_EQ(sliver_apexes(net, rule, spacing, p, splits), expected) << "trial " << trial;
+            for (const std::uint8_t flag : expected) apexes += flag;
+        }
+    }
+    EXPECT_GT(apexes, 100u);
 }
 
 TEST(MeshGuard, SliverReliefLiftsTheObtuseCornerOfACap) {
