@@ -95,6 +95,7 @@ class FanAnalyser {
     VertexFan analyse(std::uint32_t v, const std::uint32_t* corners, std::size_t count) {
         VertexFan fan;
         if (count == 0) return fan;
+        if (closed_cycle(v, corners, count, fan)) return fan;
         collect(v, corners, count, fan.collapsed);
         bool all_pairs = true, none_above_two = true;
         for (std::size_t begin = 0, end = 0; begin < entries_.size(); begin = end) {
@@ -145,6 +146,41 @@ class FanAnalyser {
     }
 
   private:
+    // Nearly every vertex of a surface mesh, settled without sorting its edges: the corners chain
+    // into one cycle, each corner's previous neighbour the next one's next, every neighbour once
+    // in each role. Then analyse() finds a closed, oriented fan with no boundary or non-manifold
+    // edge, which is what this fills in. False for anything else: analyse() decides those.
+    static constexpr std::size_t kMaxCycle = 16;
+    bool closed_cycle(std::uint32_t v, const std::uint32_t* corners, std::size_t count,
+                      VertexFan& fan) const {
+        if (count < 3 || count > kMaxCycle) return false;
+        std::uint32_t next[kMaxCycle], previous[kMaxCycle];
+        for (std::size_t j = 0; j < count; ++j) {
+            const std::uint32_t c = corners[j], base = c - c % 3;
+            next[j] = indices_[base + (c % 3 + 1) % 3];
+            previous[j] = indices_[base + (c % 3 + 2) % 3];
+            if (next[j] == v || previous[j] == v || next[j] == previous[j]) return false;
+            for (std::size_t k = 0; k < j; ++k)
+                if (previous[k] == previous[j]) return false;
+        }
+        // From corner 0, the corner whose next is this one's previous, until all are met once
+        // and the last one's previous is corner 0's next. Then the nexts are the previouses in
+        // another order: each neighbour is met by exactly two edges, one each way.
+        std::uint32_t met = 1;
+        std::size_t current = 0;
+        for (std::size_t step = 1; step < count; ++step) {
+            std::size_t k = 0;
+            while (k < count && next[k] != previous[current]) ++k;
+            if (k == count || (met >> k & 1u) != 0) return false;
+            met |= 1u << k;
+            current = k;
+        }
+        if (next[0] != previous[current]) return false;
+        fan.single_fan = fan.closed = true;
+        for (std::size_t j = 0; j < count; ++j) fan.edges += previous[j] > v ? 1 : 0;
+        return true;
+    }
+
     // Slot 2 j: outgoing edge v -> next of corner j; slot 2 j + 1: incoming edge previous -> v.
     struct Entry {
         std::uint32_t neighbour;
