@@ -30,6 +30,14 @@ bool same_style(const render::DrawStyle& a, const render::DrawStyle& b) {
 ViewRenderer::ViewRenderer() = default;
 ViewRenderer::~ViewRenderer() = default;
 
+std::vector<render::IndexRun> ViewRenderer::changed_runs(const DisplayMesh& mesh,
+                                                         const DisplayMesh& previous) {
+    if (mesh.changed_since != 0 && mesh.changed_since == previous.geometry)
+        return mesh.changed_runs;
+    if (mesh.mesh.indices.size() != previous.mesh.indices.size()) return {}; // update() refuses
+    return render::changed_index_runs(mesh.mesh.indices, previous.mesh.indices);
+}
+
 void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
     const auto v = std::size_t(view);
     auto& slot = meshes_[v];
@@ -45,7 +53,8 @@ void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
     if (!slot) {
         views_[v] = render::MeshView();
     } else if (uploading || !previous ||
-               !views_[v].update(slot->mesh, previous->mesh.indices, values(view), slot->normals)) {
+               !views_[v].update(slot->mesh, changed_runs(*slot, *previous), values(view),
+                                 slot->normals)) {
         previews_[v] = nullptr; // new buffers hold no preview
         if (slot->mesh.triangle_count() > kStagedUploadTriangles) {
             next_part_[v] = 0; // sent by the next render()s, one part each
@@ -74,8 +83,8 @@ void ViewRenderer::upload_values(std::size_t v) {
     const auto& mesh = meshes_[v];
     // A mesh still being sent takes the values shown when its quality goes (the last part).
     if (!mesh || next_part_[v] != kNoUpload) return;
-    // The same mesh: only the per-triangle values change (indices are compared, none sent).
-    if (!views_[v].update(mesh->mesh, mesh->mesh.indices, values(int(v)), mesh->normals)) {
+    // The same mesh: only the per-triangle values change (no index is sent).
+    if (!views_[v].update(mesh->mesh, {}, values(int(v)), mesh->normals)) {
         views_[v].upload(mesh->mesh, values(int(v)), mesh->normals);
         previews_[v] = nullptr;
     }

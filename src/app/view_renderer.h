@@ -136,6 +136,10 @@ class ViewRenderer {
     bool send_next_part();
     void upload_preview(std::size_t view);
     void upload_values(std::size_t view); // the same mesh, the values of another measure
+    // The runs of `mesh`'s indices that differ from `previous`'s: the worker's when it compared
+    // the same two, else compared here.
+    static std::vector<render::IndexRun> changed_runs(const DisplayMesh& mesh,
+                                                      const DisplayMesh& previous);
     void draw_whole(std::size_t view, const render::Viewport& viewport,
                     const render::OrbitCamera& camera, const render::DrawStyle& style,
                     bool preview);

@@ -66,6 +66,7 @@
 #include "core/pipeline.h"
 #include "core/triangle_distances.h"
 #include "io/source.h"
+#include "render/index_runs.h"
 #include "iteration_history.h"
 #include "preview_mesh.h"
 
@@ -109,6 +110,10 @@ struct DisplayMesh {
     // Drawn while the camera moves (large meshes only); shared by the frames of one job.
     std::shared_ptr<const PreviewMesh> preview;
     std::uint64_t geometry = 0; // equal for two DisplayMeshes with the same mesh
+    // The runs of the indices that differ from the mesh of geometry `changed_since` (0: none
+    // known), found on the worker: the UI thread then sends them without comparing the meshes.
+    std::uint64_t changed_since = 0;
+    std::vector<render::IndexRun> changed_runs;
 
     // A shape measure's values and summary (empty, and a zero summary, for a distance).
     std::span<const float> values(ShapeMeasure measure) const;

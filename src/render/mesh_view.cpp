@@ -244,27 +244,20 @@ void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> qu
     check_gl("MeshView::upload");
 }
 
-bool MeshView::update(const Mesh& mesh, std::span<const std::uint32_t> previous_indices,
+bool MeshView::update(const Mesh& mesh, std::span<const IndexRun> changed,
                       std::span<const float> quality, std::span<const glm::vec3> normals) {
     if (vertex_array_ == 0 || mesh.positions.size() != vertices_ ||
-        mesh.indices.size() != triangles_ * 3 || previous_indices.size() != mesh.indices.size())
+        mesh.indices.size() != triangles_ * 3)
         return false;
-    // The runs of blocks whose indices changed (quads split along their other diagonal are
-    // scattered over the mesh, a few per step).
-    constexpr std::size_t kBlock = 384; // indices (128 triangles)
     const std::span<const std::uint32_t> indices = mesh.indices;
-    std::vector<std::pair<std::size_t, std::size_t>> runs; // [first, end) in indices
-    for (std::size_t b = 0; b < indices.size(); b += kBlock) {
-        const std::size_t e = std::min(b + kBlock, indices.size());
-        if (std::equal(indices.begin() + std::ptrdiff_t(b), indices.begin() + std::ptrdiff_t(e),
-                       previous_indices.begin() + std::ptrdiff_t(b)))
-            continue;
-        if (!runs.empty() && runs.back().second == b)
-            runs.back().second = e;
-        else
-            runs.emplace_back(b, e);
+    for (const IndexRun& run : changed) {
+        if (run.first > run.end || run.end > indices.size())
+            throw std::invalid_argument("MeshView::update: index run [" +
+                                        std::to_string(run.first) + ", " + std::to_string(run.end) +
+                                        ") outside the mesh's " + std::to_string(indices.size()) +
+                                        " indices");
+        check_indices(indices.subspan(run.first, run.end - run.first), vertices_);
     }
-    for (const auto& [b, e] : runs) check_indices(indices.subspan(b, e - b), vertices_);
     std::vector<float> computed_quality;
     quality = quality_of(mesh, quality, computed_quality);
     std::vector<glm::vec3> computed_normals;
@@ -278,9 +271,9 @@ bool MeshView::update(const Mesh& mesh, std::span<const std::uint32_t> previous_
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     std::size_t index_bytes = 0;
     constexpr std::size_t kBlockIndices = 3 * kIndexBlockTriangles;
-    for (auto [b, e] : runs) {
+    for (const IndexRun& changed_run : changed) {
         // A run may cross from one block's buffer into the next.
-        while (b < e) {
+        for (std::size_t b = changed_run.first, e = changed_run.end; b < e;) {
             const std::size_t block = b / kBlockIndices;
             const std::size_t end = std::min(e, (block + 1) * kBlockIndices);
             const std::span<const std::uint32_t> run = indices.subspan(b, end - b);

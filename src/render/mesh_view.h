@@ -21,7 +21,8 @@
 #include "colormap.h"
 #include "core/mesh.h"
 #include "gl.h"
-#include "normals.h" // vertex_normals
+#include "index_runs.h" // IndexRun
+#include "normals.h"    // vertex_normals
 
 namespace snert::render {
 
@@ -95,10 +96,11 @@ class MeshView {
     void upload_part(int part, const Mesh& mesh, std::span<const float> quality = {},
                      std::span<const glm::vec3> normals = {});
     // The same topology with new positions (a relaxation step): `mesh` has the vertex and
-    // triangle counts of the mesh uploaded last, whose indices are `previous_indices`. Sends the
-    // positions, normals and quality, and of the indices only the blocks that changed (none
-    // when the triangulation stayed). Returns false, changing nothing, when the counts differ.
-    bool update(const Mesh& mesh, std::span<const std::uint32_t> previous_indices,
+    // triangle counts of the mesh uploaded last, and `changed` holds the runs of its indices that
+    // differ from that mesh's (changed_index_runs; none when the triangulation stayed). Sends the
+    // positions, normals and quality, and of the indices only those runs. Returns false, changing
+    // nothing, when the counts differ; throws std::invalid_argument for a run outside the mesh.
+    bool update(const Mesh& mesh, std::span<const IndexRun> changed,
                 std::span<const float> quality = {}, std::span<const glm::vec3> normals = {});
     const UploadCounters& counters() const { return counters_; }
     // A coarse stand-in over the same vertices, drawn instead of the mesh when asked (while

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <thread>
 
@@ -595,6 +596,49 @@ TEST(Worker, AskedFrameComesQuickThenMeasured) {
     other->geometry = measured->geometry + 1000;
     r.apply(Message{r.generation, FrameMetricsMessage{other}});
     EXPECT_EQ(r.frame, measured);
+}
+
+// Each frame made for the views carries the runs of its indices that differ from the frame sent
+// before it, as the UI would compare them, so that the UI thread need not.
+TEST(Worker, FramesCarryTheIndexRunsThatChangedSinceTheFrameBefore) {
+    Worker worker;
+    JobResults r;
+    JobRequest job = phantom_job("two-spheres", 32, std::nullopt, 8);
+    job.options.relax.epsilon = 0.0f;
+    r.start(worker.request(job));
+    std::vector<std::shared_ptr<const DisplayMesh>> frames;
+    const auto collect = [&](const std::function<bool()>& done) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+        while (!done() && r.error.empty() && std::chrono::steady_clock::now() < deadline) {
+            for (const Message& m : worker.drain()) {
+                r.apply(m);
+                if (const auto* f = std::get_if<FrameMessage>(&m.payload))
+                    frames.push_back(f->mesh);
+            }
+            std::this_thread::sleep_for(1ms);
+        }
+        return done();
+    };
+    ASSERT_TRUE(collect([&] { return finished(r); }));
+    // Back to the first iteration and forward again: the largest changes of the triangulation.
+    for (const int iteration : {0, 8, 1}) {
+        worker.show_iteration(r.generation, iteration);
+        ASSERT_TRUE(
+            collect([&] { return !frames.empty() && frames.back()->iteration == iteration; }));
+    }
+    std::size_t compared = 0, changed = 0;
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+        const DisplayMesh& frame = *frames[k];
+        if (frame.changed_since == 0) continue;
+        ++compared;
+        EXPECT_EQ(frame.changed_since, frames[k - 1]->geometry) << k;
+        EXPECT_EQ(frame.changed_runs,
+                  render::changed_index_runs(frame.mesh.indices, frames[k - 1]->mesh.indices))
+            << k;
+        changed += frame.changed_runs.empty() ? 0 : 1;
+    }
+    EXPECT_GE(compared, 3u);
+    EXPECT_GE(changed, 1u) << "some step splits a quad along its other diagonal";
 }
 
 // Marching Cubes goes out as soon as it is made, before the net, and again once measured: the

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -166,12 +167,44 @@ TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
     // From the middle of the first block to the middle of the second: one run of changed
     // indices, written into each block at its own offset.
     const Mesh flipped = strip(0, squares, squares / 4, 3 * squares / 4);
-    ASSERT_TRUE(view.update(flipped, mesh.indices, quality));
+    const std::vector<IndexRun> runs = changed_index_runs(flipped.indices, mesh.indices);
+    ASSERT_EQ(runs.size(), 1u);
+    ASSERT_TRUE(view.update(flipped, runs, quality));
     MeshView fresh;
     fresh.upload(flipped, quality);
     const std::vector<std::uint8_t> updated = picture({&view});
     EXPECT_NE(updated, blocks) << "the flips change which quality a pixel shows";
     EXPECT_EQ(updated, picture({&fresh}));
+}
+
+// Blocks of 128 triangles (384 indices) compared; neighbouring changed blocks join into one run.
+TEST(IndexRuns, AreTheChangedBlocksJoinedWhereTheyTouch) {
+    std::vector<std::uint32_t> before(384 * 5 + 30);
+    for (std::size_t i = 0; i < before.size(); ++i) before[i] = std::uint32_t(i % 1000);
+    EXPECT_TRUE(changed_index_runs(before, before).empty());
+    std::vector<std::uint32_t> now = before;
+    now[10] += 1;          // block 0
+    now[384 * 2 + 1] += 1; // blocks 2 and 3
+    now[384 * 3 + 383] += 1;
+    now.back() += 1; // the short last block
+    const std::vector<IndexRun> runs = changed_index_runs(now, before);
+    const std::vector<IndexRun> expected = {{0, 384}, {384 * 2, 384 * 4}, {384 * 5, now.size()}};
+    EXPECT_EQ(runs, expected);
+    now.pop_back();
+    EXPECT_THROW(changed_index_runs(now, before), std::invalid_argument);
+}
+
+TEST_F(MeshViewTest, UpdateRefusesRunsOutsideTheMesh) {
+    const Mesh mesh = square();
+    MeshView view;
+    view.upload(mesh);
+    const IndexRun beyond[] = {{0, mesh.indices.size() + 3}};
+    EXPECT_THROW(view.update(mesh, beyond), std::invalid_argument);
+    const IndexRun reversed[] = {{3, 0}};
+    EXPECT_THROW(view.update(mesh, reversed), std::invalid_argument);
+    const IndexRun all[] = {{0, mesh.indices.size()}};
+    EXPECT_TRUE(view.update(mesh, all));
+    EXPECT_EQ(view.counters().index_bytes, 2 * mesh.indices.size() * sizeof(std::uint32_t));
 }
 
 TEST_F(MeshViewTest, FlatShadingLightsTheMeshOverTheBackdrop) {
