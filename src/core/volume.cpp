@@ -155,20 +155,33 @@ void fill_cell_corners(const Volume& volume, glm::ivec3 base, CellCorners& out) 
             }
 }
 
+// The trilinear mix of a cell's corner values and gradients at `t`, in trilinear()'s order of
+// mixes, so that both results equal the separate functions'.
+ValueGradient mix_corners(const CellCorners& corners, glm::vec3 t) {
+    const auto mix3 = [&](const auto& f) {
+        const auto c00 = glm::mix(f[0][0][0], f[0][0][1], t.x);
+        const auto c10 = glm::mix(f[0][1][0], f[0][1][1], t.x);
+        const auto c01 = glm::mix(f[1][0][0], f[1][0][1], t.x);
+        const auto c11 = glm::mix(f[1][1][0], f[1][1][1], t.x);
+        return glm::mix(glm::mix(c00, c10, t.y), glm::mix(c01, c11, t.y), t.z);
+    };
+    return {mix3(corners.value), mix3(corners.gradient)};
+}
+
 } // namespace
 
 ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCorners& kept) {
     const Cell cell = locate(volume.dims, p);
     if (cell.base != kept.base) fill_cell_corners(volume, cell.base, kept);
-    // The same order of mixes as trilinear(), so both results equal the separate functions'.
-    const auto mix3 = [&](const auto& f) {
-        const auto c00 = glm::mix(f[0][0][0], f[0][0][1], cell.t.x);
-        const auto c10 = glm::mix(f[0][1][0], f[0][1][1], cell.t.x);
-        const auto c01 = glm::mix(f[1][0][0], f[1][0][1], cell.t.x);
-        const auto c11 = glm::mix(f[1][1][0], f[1][1][1], cell.t.x);
-        return glm::mix(glm::mix(c00, c10, cell.t.y), glm::mix(c01, c11, cell.t.y), cell.t.z);
-    };
-    return {mix3(kept.value), mix3(kept.gradient)};
+    return mix_corners(kept, cell.t);
+}
+
+ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCornerCache& kept) {
+    const Cell cell = locate(volume.dims, p);
+    const int parity = (cell.base.x & 1) | (cell.base.y & 1) << 1 | (cell.base.z & 1) << 2;
+    CellCorners& corners = kept.by_parity[parity];
+    if (cell.base != corners.base) fill_cell_corners(volume, cell.base, corners);
+    return mix_corners(corners, cell.t);
 }
 
 ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p) {

@@ -75,6 +75,16 @@ struct CellCorners {
 // holds, else filling it with p's cell. `kept` must only ever be used with this one volume.
 ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCorners& kept);
 
+// The corners of up to 8 cells, one for each parity of a cell's coordinates: cells that share a
+// face, edge or corner never take each other's place, so the sample points of a small triangle
+// (spread over two to four cells, visited back and forth) fill each cell once.
+struct CellCornerCache {
+    CellCorners by_parity[8];
+};
+// sample_value_gradient, bit for bit, with the corners of p's cell from `kept` (filled there when
+// missing). `kept` must only ever be used with this one volume.
+ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p, CellCornerCache& kept);
+
 // sample_trilinear (bit for bit) and the exact gradient of that trilinear field (per index
 // unit), both from the 8 samples of p's cell: a quarter of the memory reads of
 // sample_value_gradient, but a gradient that jumps across cell faces (within a cell each

@@ -115,6 +115,38 @@ TEST(Volume, KeptCellCornersGiveTheSameValueAndGradient) {
     }
 }
 
+// The cache of eight cells gives the same bits as sampling afresh, for points that wander back
+// and forth among neighbouring cells (a small triangle's sample points), clamped cells at the
+// border included; neighbouring cells never evict each other.
+TEST(Volume, CellCornerCacheGivesTheSameValueAndGradient) {
+    for (glm::ivec3 dims : {glm::ivec3(7, 6, 5), glm::ivec3(1, 4, 3), glm::ivec3(2, 1, 2)}) {
+        const Volume v = wavy_volume(dims);
+        UnitRandom next{4242u};
+        CellCornerCache kept;
+        int samples = 0, fills = 0;
+        for (int k = 0; k < 200; ++k) {
+            // A 2 x 2 x 2 block of cells (some outside the grid, clamped), visited at random.
+            const glm::vec3 corner =
+                glm::floor(glm::vec3(next(), next(), next()) * (glm::vec3(dims) + 1.0f)) - 1.0f;
+            for (int j = 0; j < 12; ++j) {
+                const glm::vec3 p = corner + 2.0f * glm::vec3(next(), next(), next());
+                CellCornerCache before = kept;
+                const ValueGradient cached = sample_value_gradient(v, p, kept);
+                for (int slot = 0; slot < 8; ++slot)
+                    fills += kept.by_parity[slot].base != before.by_parity[slot].base ? 1 : 0;
+                ++samples;
+                const ValueGradient fresh = sample_value_gradient(v, p);
+                ASSERT_EQ(cached.value, fresh.value);
+                ASSERT_EQ(cached.gradient.x, fresh.gradient.x);
+                ASSERT_EQ(cached.gradient.y, fresh.gradient.y);
+                ASSERT_EQ(cached.gradient.z, fresh.gradient.z);
+            }
+        }
+        // One cell kept instead fills 1532 and 855 of 2400 on the first two grids.
+        EXPECT_LT(fills, samples / 3) << fills << " of " << samples;
+    }
+}
+
 // The trilinear field's own gradient: the value is sample_trilinear's bit for bit, a linear
 // field's gradient is exact, and inside a cell it is the derivative of sample_trilinear.
 TEST(Volume, TrilinearGradientIsTheDerivativeOfTheTrilinearField) {
