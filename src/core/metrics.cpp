@@ -406,7 +406,7 @@ QualityStats quality_stats(const Mesh& mesh) {
     };
     std::vector<Partial> partials((triangles + kTriangleChunk - 1) / kTriangleChunk);
     for_each_chunk(triangles, kTriangleChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
-        Partial& part = partials[chunk];
+        Partial part; // stored once (see surface_distance)
         for (std::size_t t = b; t < e; ++t) {
             const std::uint32_t* i = &mesh.indices[3 * t];
             const TriangleShape s =
@@ -421,6 +421,7 @@ QualityStats quality_stats(const Mesh& mesh) {
             const int bin = std::min(kQualityBins - 1, int(s.quality * kQualityBins));
             ++part.histogram[std::size_t(std::max(0, bin))];
         }
+        partials[chunk] = part;
     });
 
     Partial total;
@@ -460,7 +461,7 @@ double smoothness(const Mesh& mesh) {
     std::vector<Partial> partials((vertices + kVertexChunk - 1) / kVertexChunk);
     for_each_chunk(vertices, kVertexChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
         FanAnalyser analyser(mesh);
-        Partial& part = partials[chunk];
+        Partial part; // stored once (see surface_distance)
         for (std::size_t v = b; v < e; ++v) {
             const std::uint32_t* corners = vc.corners.data() + vc.offsets[v];
             const std::size_t count = vc.offsets[v + 1] - vc.offsets[v];
@@ -470,6 +471,7 @@ double smoothness(const Mesh& mesh) {
             part.deviation += std::abs(2.0 * kPi - angle_sum);
             ++part.interior;
         }
+        partials[chunk] = part;
     });
     Partial total;
     for (const Partial& part : partials) {
@@ -491,7 +493,7 @@ Topology topology(const Mesh& mesh) {
     std::vector<Partial> partials((vertices + kVertexChunk - 1) / kVertexChunk);
     for_each_chunk(vertices, kVertexChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
         FanAnalyser analyser(mesh);
-        Partial& part = partials[chunk];
+        Partial part; // stored once (see surface_distance)
         for (std::size_t v = b; v < e; ++v) {
             const std::size_t count = vc.offsets[v + 1] - vc.offsets[v];
             if (count == 0) continue;
@@ -504,6 +506,7 @@ Topology topology(const Mesh& mesh) {
             part.oriented = part.oriented && fan.oriented;
             part.nonmanifold_vertices += fan.single_fan ? 0 : 1;
         }
+        partials[chunk] = part;
     });
 
     Topology topo;
@@ -649,7 +652,8 @@ SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& dista
     const std::size_t triangles = mesh.triangle_count();
     std::vector<Partial> partials((triangles + kPointChunk - 1) / kPointChunk);
     for_each_chunk(triangles, kPointChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
-        Partial& part = partials[chunk];
+        Partial part; // stored once: `distance` is opaque, so a field of partials[chunk] would be
+                      // written after every call, on a cache line that other threads write
         for (std::size_t t = b; t < e; ++t) {
             const glm::dvec3 a = corner(mesh, t, 0), ab = corner(mesh, t, 1) - a,
                              ac = corner(mesh, t, 2) - a;
@@ -666,6 +670,7 @@ SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& dista
             part.sum += area * sum / double(samples.size());
             part.weight += area;
         }
+        partials[chunk] = part;
     });
     const Partial surface = combine(partials);
     SurfaceDistance result;
@@ -679,12 +684,13 @@ Accuracy point_accuracy(const Mesh& mesh, const DistanceFunction& distance) {
     auto measure = [&](std::size_t count, auto point_of) {
         std::vector<Partial> partials((count + kPointChunk - 1) / kPointChunk);
         for_each_chunk(count, kPointChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
-            Partial& part = partials[chunk];
+            Partial part; // stored once, as in surface_distance
             for (std::size_t i = b; i < e; ++i) {
                 const double d = std::abs(double(distance(point_of(i))));
                 part.sum += d;
                 part.max = std::max(part.max, d);
             }
+            partials[chunk] = part;
         });
         const Partial total = combine(partials);
         return std::pair(count == 0 ? 0.0 : total.sum / double(count), total.max);
