@@ -33,6 +33,7 @@
 #include "parallel.h"
 #include "scratch_pool.h"
 #include "step_progress.h"
+#include "vector_angle.h"
 
 namespace snert {
 
@@ -116,7 +117,7 @@ void add_face_segments(int axis, int side, unsigned inside, std::vector<Segment>
 double smallest_angle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
     const auto angle = [](glm::dvec3 at, glm::dvec3 p, glm::dvec3 q) {
         const glm::dvec3 u = p - at, v = q - at;
-        return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+        return detail::vector_angle(glm::length(glm::cross(u, v)), glm::dot(u, v));
     };
     return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
 }

@@ -27,6 +27,7 @@
 #include "huge_pages.h"
 #include "parallel.h"
 #include "serial_number.h"
+#include "vector_angle.h"
 
 namespace snert {
 namespace {
@@ -236,13 +237,13 @@ class FanAnalyser {
     std::vector<std::uint32_t> partner_;  // entry -> the other entry of its edge, or kNone
 };
 
-// Interior angle of triangle corner c (radians), robust for needles: atan2(|cross|, dot).
+// Interior angle of triangle corner c (radians), robust for needles (vector_angle.h).
 double corner_angle(const Mesh& mesh, std::uint32_t c) {
     const std::uint32_t base = c - c % 3;
     const glm::dvec3 p(mesh.positions[mesh.indices[c]]);
     const glm::dvec3 u = glm::dvec3(mesh.positions[mesh.indices[base + (c % 3 + 1) % 3]]) - p;
     const glm::dvec3 w = glm::dvec3(mesh.positions[mesh.indices[base + (c % 3 + 2) % 3]]) - p;
-    return std::atan2(glm::length(glm::cross(u, w)), glm::dot(u, w));
+    return detail::vector_angle(glm::length(glm::cross(u, w)), glm::dot(u, w));
 }
 
 constexpr std::size_t kTriangleChunk = 1 << 15;
@@ -273,7 +274,7 @@ TriangleShape triangle_shape(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     }
     // The smallest angle faces the shortest side, the largest the longest side.
     auto angle_at = [&](int k) {
-        return std::atan2(twice_area, -glm::dot(side[(k + 2) % 3], side[(k + 1) % 3]));
+        return detail::vector_angle(twice_area, -glm::dot(side[(k + 2) % 3], side[(k + 1) % 3]));
     };
     const double smallest = angle_at(shortest);
     const double largest = angle_at(longest);

@@ -5,6 +5,8 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "vector_angle.h"
+
 namespace snert {
 
 std::optional<TriangleHit> first_hit(const Mesh& mesh, glm::vec3 origin, glm::vec3 direction) {
@@ -58,9 +60,10 @@ std::array<float, 3> triangle_angles(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     std::array<float, 3> angles{};
     for (int k = 0; k < 3; ++k) {
         const glm::dvec3 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
-        // atan2(|u x w|, u . w): exact for needles too, as triangle_shape measures them.
-        angles[std::size_t(k)] = float(std::atan2(glm::length(glm::cross(u, w)), glm::dot(u, w)) *
-                                       180.0 / glm::pi<double>());
+        // As triangle_shape measures them (vector_angle.h).
+        angles[std::size_t(k)] =
+            float(detail::vector_angle(glm::length(glm::cross(u, w)), glm::dot(u, w)) * 180.0 /
+                  glm::pi<double>());
     }
     return angles;
 }
