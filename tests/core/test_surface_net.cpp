@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <random>
 #include <set>
 #include <string>
@@ -292,4 +293,32 @@ TEST(SurfaceNet, NoiseReachingTheBorderIsManifold) {
         if (HasFailure()) break;
     }
     EXPECT_GT(bridged, 0);
+}
+
+TEST(SurfaceNet, StarsHoldEachNodesPolygonsInOrder) {
+    // The stars as their definition has them, on the nets of the test above, where mending the
+    // border adds triangles after the stars are first built (and updates them in place).
+    std::mt19937 rng(13);
+    int with_triangles = 0;
+    for (int trial = 0; trial < 1000; ++trial) {
+        const glm::ivec3 dims(3 + int(rng() % 5), 3 + int(rng() % 5), 3 + int(rng() % 5));
+        Segmentation s = empty_segmentation(dims);
+        const unsigned density = 2 + rng() % 5;
+        for (auto& v : s.inside) v = (rng() & 7u) < density ? 1 : 0;
+        const SurfaceNet net = build_surface_net(s);
+        with_triangles += net.triangles.empty() ? 0 : 1;
+        std::vector<std::vector<std::uint32_t>> expected(net.node_count());
+        std::array<std::uint32_t, 4> c{};
+        for (std::uint32_t id = 0; id < net.quads.size() + net.triangles.size(); ++id)
+            for (int k = 0, n = polygon_corners(net, id, c); k < n; ++k)
+                expected[c[std::size_t(k)]].push_back(id);
+        ASSERT_EQ(net.star_offsets.size(), net.node_count() + 1) << trial;
+        for (std::uint32_t node = 0; node < net.node_count(); ++node) {
+            const std::vector<std::uint32_t> star(net.star.begin() + net.star_offsets[node],
+                                                  net.star.begin() + net.star_offsets[node + 1]);
+            ASSERT_EQ(star, expected[node]) << "trial " << trial << ", node " << node;
+        }
+        ASSERT_EQ(net.star_offsets.back(), net.star.size()) << trial;
+    }
+    EXPECT_GT(with_triangles, 0);
 }
