@@ -271,6 +271,20 @@ TEST(SurfaceNet, TwoSpheresCreaseIsMarchingCubesDual) {
     }
 }
 
+namespace {
+
+// The net of a noise volume of 3 to 7 voxels a side, 2/8 to 6/8 of them inside: its surface
+// reaches the volume's border at many places.
+SurfaceNet random_net_of_noise(std::mt19937& rng) {
+    const glm::ivec3 dims(3 + int(rng() % 5), 3 + int(rng() % 5), 3 + int(rng() % 5));
+    Segmentation s = empty_segmentation(dims);
+    const unsigned density = 2 + rng() % 5;
+    for (auto& v : s.inside) v = (rng() & 7u) < density ? 1 : 0;
+    return build_surface_net(s);
+}
+
+} // namespace
+
 TEST(SurfaceNet, NoiseReachingTheBorderIsManifold) {
     // Open at the volume border: where a piece leaves the volume twice, a triangle joins its
     // node's two fans, so no vertex is pinched. (The Euler characteristic is MC's only where
@@ -278,11 +292,7 @@ TEST(SurfaceNet, NoiseReachingTheBorderIsManifold) {
     std::mt19937 rng(13);
     int bridged = 0;
     for (int trial = 0; trial < 1000; ++trial) {
-        const glm::ivec3 dims(3 + int(rng() % 5), 3 + int(rng() % 5), 3 + int(rng() % 5));
-        Segmentation s = empty_segmentation(dims);
-        const unsigned density = 2 + rng() % 5;
-        for (auto& v : s.inside) v = (rng() & 7u) < density ? 1 : 0;
-        const SurfaceNet net = build_surface_net(s);
+        const SurfaceNet net = random_net_of_noise(rng);
         bridged += net.triangles.empty() ? 0 : 1;
         const Mesh mesh = triangulate(net, net.positions);
         if (mesh.indices.empty()) continue;
@@ -301,11 +311,7 @@ TEST(SurfaceNet, StarsHoldEachNodesPolygonsInOrder) {
     std::mt19937 rng(13);
     int with_triangles = 0;
     for (int trial = 0; trial < 1000; ++trial) {
-        const glm::ivec3 dims(3 + int(rng() % 5), 3 + int(rng() % 5), 3 + int(rng() % 5));
-        Segmentation s = empty_segmentation(dims);
-        const unsigned density = 2 + rng() % 5;
-        for (auto& v : s.inside) v = (rng() & 7u) < density ? 1 : 0;
-        const SurfaceNet net = build_surface_net(s);
+        const SurfaceNet net = random_net_of_noise(rng);
         with_triangles += net.triangles.empty() ? 0 : 1;
         std::vector<std::vector<std::uint32_t>> expected(net.node_count());
         std::array<std::uint32_t, 4> c{};
