@@ -307,7 +307,7 @@ TEST(SurfaceNet, NoiseReachingTheBorderIsManifold) {
 
 TEST(SurfaceNet, StarsHoldEachNodesPolygonsInOrder) {
     // The stars as their definition has them, on the nets of the test above, where mending the
-    // border adds triangles after the stars are first built (and updates them in place).
+    // border adds triangles after the stars are first built (and adds them to the stars).
     std::mt19937 rng(13);
     int with_triangles = 0;
     for (int trial = 0; trial < 1000; ++trial) {
