@@ -1,12 +1,15 @@
 // The scratch arrays of the passes (huge_pages.h): what is written is read back, moves hand the
-// storage over, and arrays of 2 MiB or more start on a 2 MiB boundary where they are mapped.
+// storage over, and arrays of 2 MiB or more start on a 2 MiB boundary where they are mapped. The
+// large buffers mapped ahead of writing (in pieces on every thread) keep their contents.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "core/huge_pages.h"
+#include "core/parallel.h"
 
 using snert::detail::ScratchArray;
 
@@ -55,4 +58,21 @@ TEST(ScratchArray, LargeArraysStartOnAHugePageBoundary) {
 #else
     GTEST_SKIP() << "arrays come from the heap here (not Linux, or AddressSanitizer)";
 #endif
+}
+
+TEST(HugePages, LargeBuffersMappedInPiecesKeepTheirContents) {
+    // Over 32 MiB, so mapped in pieces of 16 MiB; an odd size, so the last piece is short.
+    const std::size_t n = (std::size_t(41) << 20) / 4 + 13;
+    for (const unsigned threads : {1u, 2u}) {
+        const snert::ThreadLimit limit(threads);
+        std::vector<std::uint32_t> v;
+        snert::detail::resize_on_huge_pages(v, n, 7u);
+        ASSERT_EQ(v.size(), n);
+        for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(v[i], 7u) << threads << " threads, " << i;
+        // Mapping memory that already holds values, from a start inside a page, changes none.
+        for (std::size_t i = 0; i < n; ++i) v[i] = std::uint32_t(i * 2654435761u);
+        snert::detail::map_pages_for_writing(static_cast<void*>(v.data() + 5), (n - 9) * 4);
+        for (std::size_t i = 0; i < n; ++i)
+            ASSERT_EQ(v[i], std::uint32_t(i * 2654435761u)) << threads << " threads, " << i;
+    }
 }
