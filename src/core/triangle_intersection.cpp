@@ -28,6 +28,7 @@
 #include <string>
 
 #include "cell_lists.h"
+#include "huge_pages.h"
 #include "parallel.h"
 
 namespace snert {
@@ -506,9 +507,12 @@ SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::ui
     auto corners = [&](std::size_t t, glm::vec3 out[3]) {
         for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
     };
-    // Boxes; triangles with a non-finite corner intersect nothing and stay out of the grid.
-    std::vector<Box> boxes(triangles);
-    std::vector<std::uint8_t> valid(triangles, 0);
+    // Boxes; triangles with a non-finite corner intersect nothing and stay out of the grid. On
+    // huge pages: a clinical mesh's boxes (20 MB) faulted 4 KiB at a time on this one thread.
+    std::vector<Box> boxes;
+    std::vector<std::uint8_t> valid;
+    detail::resize_on_huge_pages(boxes, triangles);
+    detail::resize_on_huge_pages(valid, triangles, std::uint8_t(0));
     for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t t = b; t < e; ++t) {
             glm::vec3 p[3];
