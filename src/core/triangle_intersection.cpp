@@ -348,6 +348,30 @@ struct Box {
     glm::vec3 lo, hi;
 };
 
+// The boxes of the triangles, and which have finite corners (the others intersect nothing and
+// stay out of the grid). On huge pages: a clinical mesh's boxes (20 MB) faulted 4 KiB at a time
+// on the calling thread.
+struct TriangleBoxes {
+    std::vector<Box> boxes;
+    std::vector<std::uint8_t> valid;
+};
+TriangleBoxes triangle_boxes(const Mesh& mesh) {
+    const std::size_t triangles = mesh.triangle_count();
+    TriangleBoxes out;
+    detail::resize_on_huge_pages(out.boxes, triangles);
+    detail::resize_on_huge_pages(out.valid, triangles, std::uint8_t(0));
+    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t t = b; t < e; ++t) {
+            glm::vec3 p[3];
+            for (int k = 0; k < 3; ++k) p[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
+            out.boxes[t] = {glm::min(p[0], glm::min(p[1], p[2])),
+                            glm::max(p[0], glm::max(p[1], p[2]))};
+            out.valid[t] = finite(p) ? 1 : 0;
+        }
+    });
+    return out;
+}
+
 // A uniform grid over the triangles' boxes, each triangle listed (in increasing order) in every
 // cell its box overlaps.
 struct BoxGrid {
@@ -507,20 +531,9 @@ SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::ui
     auto corners = [&](std::size_t t, glm::vec3 out[3]) {
         for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
     };
-    // Boxes; triangles with a non-finite corner intersect nothing and stay out of the grid. On
-    // huge pages: a clinical mesh's boxes (20 MB) faulted 4 KiB at a time on this one thread.
-    std::vector<Box> boxes;
-    std::vector<std::uint8_t> valid;
-    detail::resize_on_huge_pages(boxes, triangles);
-    detail::resize_on_huge_pages(valid, triangles, std::uint8_t(0));
-    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t t = b; t < e; ++t) {
-            glm::vec3 p[3];
-            corners(t, p);
-            boxes[t] = {glm::min(p[0], glm::min(p[1], p[2])), glm::max(p[0], glm::max(p[1], p[2]))};
-            valid[t] = finite(p) ? 1 : 0;
-        }
-    });
+    const TriangleBoxes boxed = triangle_boxes(mesh);
+    const std::vector<Box>& boxes = boxed.boxes;
+    const std::vector<std::uint8_t>& valid = boxed.valid;
     BoxGrid grid = make_grid(boxes, valid);
     fill_grid(grid, boxes, valid);
     // A pair belongs to the cell of the lowest corner of its boxes' overlap, max(lo_t, lo_u),
@@ -599,17 +612,11 @@ SelfIntersections few_marked_intersections(const Mesh& mesh,
     auto corners = [&](std::size_t t, glm::vec3 out[3]) {
         for (int k = 0; k < 3; ++k) out[k] = mesh.positions[mesh.indices[3 * t + std::size_t(k)]];
     };
-    std::vector<Box> boxes(triangles);
-    std::vector<std::uint8_t> valid(triangles, 0), in_grid(triangles, 0);
-    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t t = b; t < e; ++t) {
-            glm::vec3 p[3];
-            corners(t, p);
-            boxes[t] = {glm::min(p[0], glm::min(p[1], p[2])), glm::max(p[0], glm::max(p[1], p[2]))};
-            valid[t] = finite(p) ? 1 : 0;
-            in_grid[t] = valid[t] && subject[t];
-        }
-    });
+    const TriangleBoxes boxed = triangle_boxes(mesh);
+    const std::vector<Box>& boxes = boxed.boxes;
+    const std::vector<std::uint8_t>& valid = boxed.valid;
+    std::vector<std::uint8_t> in_grid(triangles, 0);
+    for (std::size_t t = 0; t < triangles; ++t) in_grid[t] = valid[t] && subject[t] ? 1 : 0;
     BoxGrid grid = make_grid(boxes, in_grid);
     fill_grid(grid, boxes, in_grid);
     Box region{glm::vec3(std::numeric_limits<float>::max()),
