@@ -51,6 +51,12 @@ int orient2d(glm::vec2 a, glm::vec2 b, glm::vec2 c);
 // Whether triangles a and b intersect other than at shared corners and edges (rules above).
 bool triangles_intersect(const glm::vec3 a[3], const glm::vec3 b[3]);
 
+namespace detail {
+// The same answer by the general way alone: the edges of each against the other, without the
+// shortcut for pairs in general position. The tests hold triangles_intersect to it.
+bool triangles_intersect_by_edges(const glm::vec3 a[3], const glm::vec3 b[3]);
+} // namespace detail
+
 // Self-intersecting triangle pairs of a mesh.
 struct SelfIntersections {
     std::size_t count = 0; // intersecting pairs (best 0)

@@ -233,6 +233,44 @@ TEST(TriangleIntersection, OrderFreeOnASmallGrid) {
     EXPECT_LT(hits, 2900);
 }
 
+TEST(TriangleIntersection, GeneralPositionShortcutAgreesWithTheEdgeTests) {
+    // Random pairs with no, one and two shared corners, in a unit box (most pairs in general
+    // position, crossing or not), on a 3 x 3 x 3 grid (coplanar and collinear corners) and on a
+    // fine grid around one plane (signs the filter cannot settle): triangles_intersect, which
+    // settles pairs in general position from orientations alone, against the edge tests.
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<int> small(0, 2), fine(-3, 3), pick(0, 2);
+    const auto unit_corner = [&] { return V(unit(rng), unit(rng), unit(rng)); };
+    const auto grid_corner = [&] {
+        return V(float(small(rng)), float(small(rng)), float(small(rng)));
+    };
+    const auto near_plane_corner = [&] {
+        return V(unit(rng), unit(rng), 0.5f + float(fine(rng)) * 0x1p-22f);
+    };
+    int outcomes[3][2] = {}; // [shared corners][intersecting]
+    for (int i = 0; i < 60000; ++i) {
+        const int kind = i % 3;
+        const auto corner = [&] {
+            return kind == 0 ? unit_corner() : kind == 1 ? grid_corner() : near_plane_corner();
+        };
+        V a[3] = {corner(), corner(), corner()}, b[3] = {corner(), corner(), corner()};
+        const int shared = (i / 3) % 3;
+        const int from = pick(rng);
+        if (shared >= 1) b[0] = a[from];
+        // Two shared: b = (a[from], b1, a[from + 1]), wound against a as in a mesh.
+        if (shared == 2) b[2] = a[(from + 1) % 3];
+        const bool expected = detail::triangles_intersect_by_edges(a, b);
+        ASSERT_EQ(triangles_intersect(a, b), expected) << "pair " << i;
+        ASSERT_EQ(triangles_intersect(b, a), expected) << "pair " << i << ", swapped";
+        if (kind == 0) ++outcomes[shared][expected ? 1 : 0];
+    }
+    // Both answers in each case, many times over: the shortcut's every branch was taken.
+    for (int shared = 0; shared < 2; ++shared)
+        for (int hit = 0; hit < 2; ++hit) EXPECT_GT(outcomes[shared][hit], 500) << shared << hit;
+    EXPECT_GT(outcomes[2][0], 5000);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Mesh counts.
 
