@@ -94,6 +94,19 @@ class CellLists {
                 f(w * 64 + std::size_t(std::countr_zero(bits)));
     }
 
+    // Calls f(c) for every occupied cell c in [first, last), in increasing order: a word of 64
+    // empty cells at a time.
+    template <class F> void for_each_occupied_in(std::size_t first, std::size_t last, F&& f) const {
+        last = std::min(last, occupied_.size() * 64);
+        for (std::size_t w = first >> 6; w < (last + 63) >> 6; ++w) {
+            std::uint64_t bits = occupied_[w];
+            if (w == first >> 6) bits &= ~std::uint64_t(0) << (first & 63);
+            if (w == (last - 1) >> 6 && (last & 63) != 0)
+                bits &= ~(~std::uint64_t(0) << (last & 63));
+            for (; bits != 0; bits &= bits - 1) f(w * 64 + std::size_t(std::countr_zero(bits)));
+        }
+    }
+
     std::span<const std::uint32_t> items(std::size_t c) const {
         if (!occupied(c)) return {};
         const std::size_t r = rank(c);

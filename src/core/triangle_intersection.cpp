@@ -26,6 +26,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -433,6 +434,7 @@ bool triangles_intersect_by_edges(const glm::vec3 a[3], const glm::vec3 b[3]) {
 namespace {
 
 constexpr std::size_t kTriangleChunk = 1 << 12;
+constexpr std::size_t kCellChunk = 1 << 12;
 constexpr std::size_t kMaxCells = std::size_t(1) << 22;
 
 struct Box {
@@ -611,8 +613,13 @@ void check_indices(const Mesh& mesh) {
 
 namespace {
 
-// Every intersecting pair (t, u), t < u; with `subject`, only pairs with a triangle marked in it
-// (each examined from that triangle; from the smaller one when both are marked).
+// Every intersecting pair (t, u), t < u; with `subject`, only pairs with a triangle marked in it.
+// Cell by cell: each pair is examined in the cell that holds the lowest corner of its boxes'
+// overlap, max(lo_t, lo_u), whose cell is max(cell_of(lo_t), cell_of(lo_u)) (cell_of is monotone
+// in each coordinate). A cell's triangles are read once into a small local list, box, first cell
+// and mark, and their pairs tested from there: examined from each triangle, the lists of its
+// cells were searched for it and their boxes read again for every triangle of the cell, at
+// scattered places (half of this pass's time on the CT's Marching Cubes mesh).
 SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::uint8_t>* subject,
                                      std::size_t max_pairs) {
     check_indices(mesh);
@@ -627,59 +634,73 @@ SelfIntersections find_intersections(const Mesh& mesh, const std::vector<std::ui
     const std::vector<std::uint8_t>& valid = boxed.valid;
     BoxGrid grid = make_grid(boxes, valid);
     fill_grid(grid, boxes, valid);
-    // A pair belongs to the cell of the lowest corner of its boxes' overlap, max(lo_t, lo_u),
-    // whose cell is max(cell_of(lo_t), cell_of(lo_u)): cell_of is monotone in each coordinate.
-    // The partner's cell is found only once the boxes overlap (a few in each cell's list), not
-    // kept for every triangle (12 bytes a triangle, a fifth of this pass's memory).
     auto marked = [&](std::size_t t) { return subject == nullptr || (*subject)[t] != 0; };
 
+    // A triangle of the cell at hand, as its pairs there read it.
+    struct Listed {
+        Box box;
+        glm::ivec3 first_cell; // the cell of the box's lowest corner
+        std::uint32_t id;
+        bool marked;
+    };
     struct Partial {
         std::size_t count = 0;
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // sorted, at most max_pairs
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // the least, at most max_pairs
     };
-    std::vector<Partial> partials(chunk_count(triangles, kTriangleChunk));
-    for_each_chunk(triangles, kTriangleChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+    const std::size_t cells =
+        std::size_t(grid.dims.x) * std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    std::vector<Partial> partials(chunk_count(cells, kCellChunk));
+    for_each_chunk(cells, kCellChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
         Partial& part = partials[chunk];
-        std::vector<std::uint32_t> hits;        // partners of one triangle, reused
-        std::vector<std::uint32_t> overlapping; // a cell's triangles whose box meets t's
-        for (std::size_t t = b; t < e; ++t) {
-            if (!valid[t] || !marked(t)) continue;
-            glm::vec3 p[3], q[3];
-            corners(t, p);
-            const PlaneSide plane_of_t(p);
-            const std::uint32_t* t_index = &mesh.indices[3 * t];
-            const glm::ivec3 first_t = grid.cell_of(boxes[t].lo);
-            hits.clear();
-            for_each_cell(grid, boxes[t], [&](glm::ivec3 cell, std::size_t c) {
-                std::span<const std::uint32_t> items = grid.triangles.items(c);
-                // Without marks a pair is examined from its smaller triangle: in a cell's list
-                // (increasing) only the triangles after t.
-                if (subject == nullptr)
-                    items = items.subspan(
-                        std::size_t(std::upper_bound(items.begin(), items.end(), std::uint32_t(t)) -
-                                    items.begin()));
-                // The boxes' test for the whole list first (detail::keep_passing), then the
-                // rest of the tests for the few kept.
-                const auto kept = detail::keep_passing(items, overlapping, [&](std::uint32_t u) {
-                    return boxes_overlap(boxes[t], boxes[u]);
-                });
-                for (const std::uint32_t u : kept) {
-                    if (u == t || (u < t && marked(u)) ||
-                        glm::max(first_t, grid.cell_of(boxes[u].lo)) != cell)
-                        continue;
-                    corners(u, q);
-                    if (pair_intersects(plane_of_t, t_index, p, &mesh.indices[3 * std::size_t(u)],
-                                        q))
-                        hits.push_back(u);
+        std::vector<Listed> listed;
+        std::vector<std::uint32_t> overlapping; // places in `listed` whose box meets one's
+        grid.triangles.for_each_occupied_in(b, e, [&](std::size_t c) {
+            const std::span<const std::uint32_t> items = grid.triangles.items(c);
+            if (items.size() < 2) return;
+            const std::size_t along_xy = std::size_t(grid.dims.x) * std::size_t(grid.dims.y);
+            const glm::ivec3 cell(int(c % std::size_t(grid.dims.x)),
+                                  int(c / std::size_t(grid.dims.x) % std::size_t(grid.dims.y)),
+                                  int(c / along_xy));
+            listed.clear();
+            for (const std::uint32_t id : items)
+                listed.push_back({boxes[id], grid.cell_of(boxes[id].lo), id, marked(id)});
+            if (overlapping.size() < listed.size()) overlapping.resize(listed.size());
+            // The list is in increasing order: t is the smaller of each pair.
+            for (std::size_t i = 0; i + 1 < listed.size(); ++i) {
+                const Listed& t = listed[i];
+                // The boxes' test for the rest of the list first, without a branch (as
+                // detail::keep_passing), then the other tests for the few kept.
+                std::size_t kept = 0;
+                for (std::size_t j = i + 1; j < listed.size(); ++j) {
+                    overlapping[kept] = std::uint32_t(j);
+                    kept += boxes_overlap(t.box, listed[j].box) ? 1 : 0;
                 }
-            });
-            part.count += hits.size();
-            std::sort(hits.begin(), hits.end());
-            for (std::uint32_t u : hits)
-                part.pairs.emplace_back(std::min(std::uint32_t(t), u),
-                                        std::max(std::uint32_t(t), u));
-            if (subject == nullptr && part.pairs.size() > max_pairs) part.pairs.resize(max_pairs);
-        }
+                glm::vec3 p[3], q[3];
+                std::optional<PlaneSide> plane_of_t; // once t has a partner to test
+                for (std::size_t k = 0; k < kept; ++k) {
+                    const Listed& u = listed[overlapping[k]];
+                    if (!(t.marked || u.marked) || glm::max(t.first_cell, u.first_cell) != cell)
+                        continue;
+                    if (!plane_of_t) {
+                        corners(t.id, p);
+                        plane_of_t.emplace(p);
+                    }
+                    corners(u.id, q);
+                    if (!pair_intersects(*plane_of_t, &mesh.indices[3 * std::size_t(t.id)], p,
+                                         &mesh.indices[3 * std::size_t(u.id)], q))
+                        continue;
+                    ++part.count;
+                    part.pairs.emplace_back(t.id, u.id);
+                }
+            }
+            // Only the least max_pairs of all are kept, so of each chunk's too.
+            if (part.pairs.size() > 64 && part.pairs.size() / 2 > max_pairs) {
+                std::sort(part.pairs.begin(), part.pairs.end());
+                part.pairs.resize(max_pairs);
+            }
+        });
+        std::sort(part.pairs.begin(), part.pairs.end());
+        if (part.pairs.size() > max_pairs) part.pairs.resize(max_pairs);
     });
     SelfIntersections result;
     for (const Partial& part : partials) {

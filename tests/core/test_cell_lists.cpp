@@ -39,6 +39,20 @@ TEST(CellLists, ListsEachCellsItemsInIncreasingOrder) {
     std::vector<std::size_t> occupied;
     lists.for_each_occupied([&](std::size_t c) { occupied.push_back(c); });
     EXPECT_EQ(occupied, (std::vector<std::size_t>{0, 63, 64, 127, 128, 199}));
+    // A range of cells: its ends within words and on their edges.
+    const auto occupied_in = [&](std::size_t first, std::size_t last) {
+        std::vector<std::size_t> found;
+        lists.for_each_occupied_in(first, last, [&](std::size_t c) { found.push_back(c); });
+        return found;
+    };
+    EXPECT_EQ(occupied_in(0, 200), occupied);
+    EXPECT_EQ(occupied_in(63, 65), (std::vector<std::size_t>{63, 64}));
+    EXPECT_EQ(occupied_in(1, 63), (std::vector<std::size_t>{}));
+    EXPECT_EQ(occupied_in(64, 128), (std::vector<std::size_t>{64, 127}));
+    EXPECT_EQ(occupied_in(100, 200), (std::vector<std::size_t>{127, 128, 199}));
+    EXPECT_EQ(occupied_in(128, 129), (std::vector<std::size_t>{128}));
+    EXPECT_EQ(occupied_in(199, 500), (std::vector<std::size_t>{199}));
+    EXPECT_EQ(occupied_in(120, 120), (std::vector<std::size_t>{}));
     for (std::size_t c = 0; c < 200; ++c) {
         const bool used = c == 0 || c == 63 || c == 64 || c == 127 || c == 128 || c == 199;
         EXPECT_EQ(lists.occupied(c), used) << c;

@@ -2,6 +2,7 @@
 // triangle_intersection.h, and the mesh count against all pairs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -330,6 +331,16 @@ TEST(SelfIntersections, GridMatchesAllPairs) {
     EXPECT_EQ(found.count, brute);
     EXPECT_EQ(found.pairs.size(), brute);
     EXPECT_TRUE(std::is_sorted(found.pairs.begin(), found.pairs.end()));
+    // A cap keeps the least pairs (each part of the grid drops its larger ones as it goes, past
+    // twice the cap and 64) and the whole count.
+    ASSERT_GT(brute, 100u);
+    for (const std::size_t cap : {1u, 7u, 60u}) {
+        const SelfIntersections capped = self_intersections(mesh, cap);
+        EXPECT_EQ(capped.count, brute);
+        ASSERT_EQ(capped.pairs.size(), cap);
+        EXPECT_TRUE(std::equal(capped.pairs.begin(), capped.pairs.end(), found.pairs.begin()))
+            << cap;
+    }
 }
 
 TEST(SelfIntersections, GridMatchesAllPairsOnALattice) {
