@@ -14,7 +14,8 @@ namespace snert {
 // ---- Histogram and iso suggestion -------------------------------------------------------------
 
 // Equal-width bins over [lo, hi], the range of the finite samples. Bin i holds values in
-// [lo + i*w, lo + (i+1)*w), the last bin also holds hi. Non-finite samples are not counted.
+// [lo + i*w, lo + (i+1)*w), the last bin also holds hi. Non-finite samples are not counted
+// (finite ones off a given range would fall into the end bins).
 struct Histogram {
     float lo = 0.0f, hi = 0.0f;
     std::vector<std::uint64_t> counts;

@@ -363,6 +363,7 @@ TEST(VolumeStats, RangeAndHistogramCountEveryFiniteSample) {
     }
     v.samples[12345] = std::numeric_limits<float>::quiet_NaN();
     v.samples[4000000] = std::numeric_limits<float>::infinity();
+    v.samples[3000001] = -std::numeric_limits<float>::infinity();
     v.samples[77] = -1500.0f;
     v.samples[4400000] = 2500.0f;
     Histogram serial;
@@ -382,7 +383,7 @@ TEST(VolumeStats, RangeAndHistogramCountEveryFiniteSample) {
         EXPECT_EQ(h.lo, serial.lo);
         EXPECT_EQ(h.hi, serial.hi);
         EXPECT_EQ(h.counts, serial.counts);
-        EXPECT_EQ(h.total(), v.samples.size() - 2);
+        EXPECT_EQ(h.total(), v.samples.size() - 3);
         EXPECT_EQ(make_histogram(v, 64, range).counts, serial.counts);
         EXPECT_EQ(suggest_iso(v, range), suggest_iso(v));
     }
