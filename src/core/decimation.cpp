@@ -367,8 +367,7 @@ Verdict check(const Mesh& trial, const Indices& changed, const Reference& ref, c
 void check_indices(const Mesh& mesh) {
     if (mesh.indices.size() % 3 != 0)
         throw std::invalid_argument("decimate: index count is not a multiple of 3");
-    for (const std::uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size()) throw std::invalid_argument("decimate: index out of range");
+    if (first_index_out_of_range(mesh)) throw std::invalid_argument("decimate: index out of range");
 }
 
 // Patches: the triangles of a step grouped by the cell of a grid their centroid falls in, each

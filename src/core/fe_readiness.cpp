@@ -26,10 +26,8 @@ FeReadiness fe_readiness(const Mesh& mesh, const Topology& topology,
                          std::size_t self_intersections) {
     if (mesh.indices.size() % 3 != 0)
         throw std::invalid_argument("fe_readiness: index count is not a multiple of 3");
-    for (std::uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size())
-            throw std::invalid_argument("fe_readiness: index " + std::to_string(i) +
-                                        " out of range");
+    if (const auto i = first_index_out_of_range(mesh))
+        throw std::invalid_argument("fe_readiness: index " + std::to_string(*i) + " out of range");
     FeReadiness fe;
     fe.triangles = mesh.triangle_count();
     fe.closed = topology.watertight;

@@ -17,6 +17,26 @@ WorldToIndex world_to_index_map(const Volume& volume) {
     return {glm::inverse(index_to_world_linear(volume)), volume.origin};
 }
 
+std::optional<std::uint32_t> first_index_out_of_range(const Mesh& mesh) {
+    if (mesh.positions.size() > UINT32_MAX) return std::nullopt; // every 32-bit index names one
+    const auto vertices = std::uint32_t(mesh.positions.size());
+    const std::uint32_t* index = mesh.indices.data();
+    const std::size_t count = mesh.indices.size();
+    // A block at a time, by a loop without a branch that the compiler vectorises (the metrics
+    // check their mesh a dozen times, 2.5 M indices each on a clinical mesh); the block that
+    // holds one is searched again for it.
+    constexpr std::size_t kBlock = 1024;
+    for (std::size_t first = 0; first < count; first += kBlock) {
+        const std::size_t n = std::min(kBlock, count - first);
+        std::uint32_t out = 0;
+        for (std::size_t k = 0; k < n; ++k) out |= index[first + k] >= vertices ? 1u : 0u;
+        if (out != 0)
+            for (std::size_t k = 0; k < n; ++k)
+                if (index[first + k] >= vertices) return index[first + k];
+    }
+    return std::nullopt;
+}
+
 bool same_mesh(const Mesh& a, const Mesh& b) {
     return a.indices == b.indices && a.positions.size() == b.positions.size() &&
            (a.positions.empty() || std::memcmp(a.positions.data(), b.positions.data(),

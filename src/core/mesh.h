@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct Mesh {
     std::size_t triangle_count() const { return indices.size() / 3; }
     std::size_t vertex_count() const { return positions.size(); }
 };
+
+// The first index of `mesh` that names no vertex, or none: every reader of a mesh from outside
+// checks this before it indexes the positions.
+std::optional<std::uint32_t> first_index_out_of_range(const Mesh& mesh);
 
 // The same triangles and the same vertices, bit for bit (a -0 differs from a 0, a NaN equals
 // itself): what "the same result" means for a mesh.

@@ -39,12 +39,10 @@ void check_mesh(const Mesh& mesh) {
     if (mesh.indices.size() % 3 != 0)
         throw std::invalid_argument("mesh has " + std::to_string(mesh.indices.size()) +
                                     " indices, not a multiple of 3");
-    const std::size_t vertices = mesh.positions.size();
-    std::uint32_t largest = 0;
-    for (std::uint32_t i : mesh.indices) largest = std::max(largest, i);
-    if (!mesh.indices.empty() && largest >= vertices)
-        throw std::invalid_argument("mesh index " + std::to_string(largest) + " out of range (" +
-                                    std::to_string(vertices) + " vertices)");
+    if (!first_index_out_of_range(mesh)) return;
+    const std::uint32_t largest = *std::max_element(mesh.indices.begin(), mesh.indices.end());
+    throw std::invalid_argument("mesh index " + std::to_string(largest) + " out of range (" +
+                                std::to_string(mesh.positions.size()) + " vertices)");
 }
 
 glm::dvec3 corner(const Mesh& mesh, std::size_t triangle, int k) {

@@ -15,10 +15,9 @@ constexpr std::size_t kChunk = 1 << 13;
 void check_indices(const Mesh& mesh) {
     if (mesh.indices.size() % 3 != 0)
         throw std::invalid_argument("triangle fields: index count is not a multiple of 3");
-    for (std::uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size())
-            throw std::invalid_argument("triangle fields: index " + std::to_string(i) +
-                                        " out of range");
+    if (const auto i = first_index_out_of_range(mesh))
+        throw std::invalid_argument("triangle fields: index " + std::to_string(*i) +
+                                    " out of range");
 }
 
 } // namespace

@@ -603,10 +603,9 @@ void check_indices(const Mesh& mesh) {
                                     " indices, not a multiple of 3");
     if (mesh.triangle_count() >= std::numeric_limits<std::uint32_t>::max())
         throw std::invalid_argument("self-intersections: too many triangles");
-    for (std::uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size())
-            throw std::invalid_argument("mesh index " + std::to_string(i) + " out of range (" +
-                                        std::to_string(mesh.positions.size()) + " vertices)");
+    if (const auto i = first_index_out_of_range(mesh))
+        throw std::invalid_argument("mesh index " + std::to_string(*i) + " out of range (" +
+                                    std::to_string(mesh.positions.size()) + " vertices)");
 }
 
 } // namespace

@@ -52,11 +52,10 @@ template <class T> void put(char*& out, T value, bool little_endian = true) {
 void check_mesh_for_writing(const Mesh& mesh, const std::string& path) {
     if (mesh.indices.size() % 3 != 0)
         throw std::invalid_argument(path + ": mesh index count is not a multiple of 3");
-    for (std::uint32_t i : mesh.indices)
-        if (i >= mesh.positions.size())
-            throw std::invalid_argument(path + ": mesh index " + std::to_string(i) +
-                                        " out of range (" + std::to_string(mesh.positions.size()) +
-                                        " vertices)");
+    if (const auto i = first_index_out_of_range(mesh))
+        throw std::invalid_argument(path + ": mesh index " + std::to_string(*i) +
+                                    " out of range (" + std::to_string(mesh.positions.size()) +
+                                    " vertices)");
 }
 
 // Text output through a local buffer: one stream call per 64 KiB instead of per number.

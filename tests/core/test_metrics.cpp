@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <tuple>
 #include <utility>
@@ -193,6 +194,33 @@ TEST(QualityStats, RejectsBadIndices) {
     EXPECT_THROW(quality_stats(m), std::invalid_argument);
     m.indices = {0, 1};
     EXPECT_THROW(topology(m), std::invalid_argument);
+}
+
+// The first bad index wherever it lies in its block of the scan (the first, the last, one past
+// a block's end, the mesh's last), none when all name vertices; the largest in the message.
+TEST(MeshIndices, FirstOutOfRangeWhereverItLies) {
+    Mesh m = test::icosphere(3); // 1280 triangles: indices over several blocks
+    ASSERT_GT(m.indices.size(), 3000u);
+    EXPECT_FALSE(first_index_out_of_range(m).has_value());
+    const auto vertices = std::uint32_t(m.positions.size());
+    for (const std::size_t at : {std::size_t(0), std::size_t(1023), std::size_t(1024),
+                                 std::size_t(2049), m.indices.size() - 1}) {
+        Mesh bad = m;
+        bad.indices[at] = vertices + 7;
+        bad.indices[m.indices.size() - 1 - at / 2] = vertices; // a second, later or the same
+        const std::uint32_t first = at <= m.indices.size() - 1 - at / 2
+                                        ? bad.indices[at]
+                                        : bad.indices[m.indices.size() - 1 - at / 2];
+        EXPECT_EQ(first_index_out_of_range(bad), first) << at;
+        try {
+            (void)topology(bad);
+            ADD_FAILURE() << "no error for index " << at;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(std::to_string(vertices + 7)), std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_FALSE(first_index_out_of_range(Mesh{}).has_value());
 }
 
 // --- Smoothness -----------------------------------------------------------------------------
