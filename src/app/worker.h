@@ -22,7 +22,9 @@
 //    iteration k (recomputed from a keyframe when it is no longer stored), show_iteration(kLive)
 //    follows the newest iteration. While following, a new frame is made only once the UI has
 //    drained the previous one, so a fast relaxation does not spend its time on frames nobody
-//    sees; the last iteration's frame is always sent. Undrained frames are replaced, not queued.
+//    sees, and only once live_frame_spacing times the last one's making has passed since it
+//    was made, so a clinical mesh's frames do not double the relaxation's time; the last
+//    iteration's frame is always sent. Undrained frames are replaced, not queued.
 //  - want_compactness(): once the job (or a continuation) is finished, the measurer reduces its
 //    two last meshes (CompactnessMessage, after the FinishedMessage): the compactness curves and
 //    the equal-count pair. Only on request (the app's Compactness tab or its switch): on a large
@@ -196,6 +198,10 @@ struct WorkerOptions {
     // software GL beside the computation. Off for drivers that wait for the worker frame after
     // frame (tests, headless), where it would only slow the worker down.
     bool give_way_to_the_ui = false;
+    // While the views follow the relaxation, a frame that took m to make is followed by the
+    // next one live_frame_spacing * m later at the earliest: frames take at most about
+    // 1 / (1 + spacing) of the worker's time (worker.cpp says why).
+    double live_frame_spacing = 4.0;
     // Called, on the thread that posts, once a message can be drained: a window that draws
     // only a few frames a second while the worker computes wakes at once for its results.
     // It must be safe to call from any thread.

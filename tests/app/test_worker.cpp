@@ -562,6 +562,41 @@ TEST(Worker, IterationsAreAnnouncedThenMeasuredThenTheJobEnds) {
     EXPECT_TRUE(r.frame->last && r.frame->metrics_complete);
 }
 
+// While the views follow the relaxation, a frame waits live_frame_spacing times the last one's
+// making after it: with a spacing no run reaches, the initial net's frame is the only one passing
+// by until the last iteration's (which never waits, when the UI has taken the one before), then
+// the final one. Without the wait, nearly every iteration of this net has a frame.
+TEST(Worker, FollowingFramesWaitAfterTheLastOne) {
+    WorkerOptions options;
+    options.live_frame_spacing = 1e6;
+    Worker worker(options);
+    JobResults r;
+    JobRequest job = phantom_job("sphere", 48, std::nullopt, 8);
+    job.options.relax.epsilon = 0.0f;
+    r.start(worker.request(job));
+    std::vector<std::shared_ptr<const DisplayMesh>> frames;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
+        for (const Message& m : worker.drain()) { // at once: frames do not wait for the UI
+            r.apply(m);
+            if (const auto* f = std::get_if<FrameMessage>(&m.payload)) frames.push_back(f->mesh);
+        }
+    }
+    ASSERT_TRUE(r.finished);
+    ASSERT_GE(frames.size(), 2u);
+    ASSERT_LE(frames.size(), 3u);
+    EXPECT_EQ(frames.front()->iteration, 0);
+    EXPECT_TRUE(frames.back()->last);
+    EXPECT_EQ(frames.back()->iteration, 8);
+    if (frames.size() == 3) {
+        EXPECT_EQ(frames[1]->iteration, 8);
+    }
+    // Stepping is not paced: a frame asked for comes at once.
+    worker.show_iteration(r.generation, 3);
+    ASSERT_TRUE(pump_until(worker, r,
+                           [](const JobResults& x) { return x.frame && x.frame->iteration == 3; }));
+}
+
 // A frame asked for comes at once, unmeasured, then measured with the same geometry (which
 // the views do not upload again); the quick one has the normals and the preview's share.
 TEST(Worker, AskedFrameComesQuickThenMeasured) {
