@@ -697,9 +697,7 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
         const bool due = view.pending || final_frame || !undrained;
         const bool paced = view.pending || latest >= progress_.max_iterations.load() ||
                            Clock::now() >= job.next_live_frame;
-        if (final_frame || (due && paced && job.frame_sent != latest))
-            target = latest;
-        else if (view.pending)
+        if (final_frame || view.pending || (due && paced && job.frame_sent != latest))
             target = latest;
     } else if (view.pending) {
         target = std::min(view.iteration, latest);

@@ -43,6 +43,21 @@ bool ended(const JobResults& r) {
     return r.compactness.has_value() || !r.error.empty();
 }
 
+// Drains the worker as fast as it can (no frame waits for the UI) until the job finishes, and
+// returns the frames it posted, oldest first.
+std::vector<std::shared_ptr<const DisplayMesh>> frames_until_finished(Worker& worker,
+                                                                      JobResults& results) {
+    std::vector<std::shared_ptr<const DisplayMesh>> frames;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!finished(results) && std::chrono::steady_clock::now() < deadline) {
+        for (const Message& m : worker.drain()) {
+            results.apply(m);
+            if (const auto* f = std::get_if<FrameMessage>(&m.payload)) frames.push_back(f->mesh);
+        }
+    }
+    return frames;
+}
+
 JobRequest phantom_job(const std::string& name, int size, std::optional<float> iso,
                        int iterations) {
     JobRequest job;
@@ -574,14 +589,7 @@ TEST(Worker, FollowingFramesWaitAfterTheLastOne) {
     JobRequest job = phantom_job("sphere", 48, std::nullopt, 8);
     job.options.relax.epsilon = 0.0f;
     r.start(worker.request(job));
-    std::vector<std::shared_ptr<const DisplayMesh>> frames;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
-        for (const Message& m : worker.drain()) { // at once: frames do not wait for the UI
-            r.apply(m);
-            if (const auto* f = std::get_if<FrameMessage>(&m.payload)) frames.push_back(f->mesh);
-        }
-    }
+    const auto frames = frames_until_finished(worker, r);
     ASSERT_TRUE(r.finished);
     ASSERT_GE(frames.size(), 2u);
     ASSERT_LE(frames.size(), 3u);
@@ -724,15 +732,7 @@ TEST(Worker, LastFrameKeepsTheGeometryOfItsQuickFrame) {
         JobRequest job = phantom_job("sphere", 40, std::nullopt, 4);
         job.options.relax.epsilon = 0.0f;
         r.start(worker.request(job));
-        std::vector<std::shared_ptr<const DisplayMesh>> frames;
-        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-        while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
-            for (const Message& m : worker.drain()) { // at once: every frame is taken
-                r.apply(m);
-                if (const auto* f = std::get_if<FrameMessage>(&m.payload))
-                    frames.push_back(f->mesh);
-            }
-        }
+        const auto frames = frames_until_finished(worker, r); // every frame is taken at once
         ASSERT_TRUE(r.finished && r.frame);
         ASSERT_TRUE(r.frame->last && r.frame->metrics_complete);
         EXPECT_TRUE(r.frame->metrics.to_marching_cubes);
