@@ -694,10 +694,9 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
         // Following the relaxation: the newest iteration, once the UI took the last frame and
         // the pause after it is over (the relaxation's last iteration does not wait). The last
         // frame goes out measured even when its quick version went before.
-        const bool due = view.pending || final_frame || !undrained;
-        const bool paced = view.pending || latest >= progress_.max_iterations.load() ||
-                           Clock::now() >= job.next_live_frame;
-        if (final_frame || view.pending || (due && paced && job.frame_sent != latest))
+        const bool paced =
+            latest >= progress_.max_iterations.load() || Clock::now() >= job.next_live_frame;
+        if (final_frame || view.pending || (!undrained && paced && job.frame_sent != latest))
             target = latest;
     } else if (view.pending) {
         target = std::min(view.iteration, latest);

@@ -23,8 +23,8 @@
 //    follows the newest iteration. While following, a new frame is made only once the UI has
 //    drained the previous one, so a fast relaxation does not spend its time on frames nobody
 //    sees, and only once live_frame_spacing times the last one's making has passed since it
-//    was made, so a clinical mesh's frames do not double the relaxation's time; the last
-//    iteration's frame is always sent. Undrained frames are replaced, not queued.
+//    was made, so a clinical mesh's frames do not make the relaxation half as slow again; the
+//    last iteration's frame is always sent. Undrained frames are replaced, not queued.
 //  - want_compactness(): once the job (or a continuation) is finished, the measurer reduces its
 //    two last meshes (CompactnessMessage, after the FinishedMessage): the compactness curves and
 //    the equal-count pair. Only on request (the app's Compactness tab or its switch): on a large
