@@ -67,6 +67,13 @@ JobRequest phantom_job(const std::string& name, int size, std::optional<float> i
     return job;
 }
 
+// A phantom job whose relaxation runs every one of its iterations (no convergence test).
+JobRequest all_iterations_job(const std::string& name, int size, int iterations) {
+    JobRequest job = phantom_job(name, size, std::nullopt, iterations);
+    job.options.relax.epsilon = 0.0f;
+    return job;
+}
+
 // What the CLI computes for the same request (core/pipeline.h).
 struct Expected {
     MethodResult mc, net;
@@ -250,8 +257,7 @@ TEST(Worker, ShowsAnyIterationOnRequest) {
     options.history_budget_bytes = 0;
     Worker worker(options);
     JobResults r;
-    JobRequest job = phantom_job("two-spheres", 24, std::nullopt, 12);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("two-spheres", 24, 12);
     r.start(worker.request(job));
     ASSERT_TRUE(pump_until(worker, r, finished));
     ASSERT_EQ(r.finished->iterations, 12);
@@ -332,8 +338,7 @@ TEST(Worker, ShutsDownWhileBusy) {
         const auto start = std::chrono::steady_clock::now();
         {
             Worker worker;
-            JobRequest job = phantom_job("torus", 48, std::nullopt, 100000);
-            job.options.relax.epsilon = 0.0f;
+            JobRequest job = all_iterations_job("torus", 48, 100000);
             worker.request(job);
             std::this_thread::sleep_for(std::chrono::milliseconds(i * 3));
         }
@@ -414,8 +419,7 @@ TEST(Worker, ClosesTheBorderLikeTheCommandLine) {
 TEST(Worker, FrameMetricsAreThoseOfMeasure) {
     Worker worker;
     JobResults r;
-    JobRequest job = phantom_job("two-spheres", 22, std::nullopt, 6);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("two-spheres", 22, 6);
     r.start(worker.request(job));
     ASSERT_TRUE(pump_until(worker, r, finished));
     ASSERT_TRUE(r.error.empty()) << r.error;
@@ -538,8 +542,7 @@ TEST(Worker, LabelMaskJobRunsTheMethodsOnTheMask) {
 TEST(Worker, IterationsAreAnnouncedThenMeasuredThenTheJobEnds) {
     Worker worker;
     JobResults r;
-    JobRequest job = phantom_job("sphere", 24, std::nullopt, 6);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("sphere", 24, 6);
     r.start(worker.request(job));
     std::vector<Message> all;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
@@ -586,8 +589,7 @@ TEST(Worker, FollowingFramesWaitAfterTheLastOne) {
     options.live_frame_spacing = 1e6;
     Worker worker(options);
     JobResults r;
-    JobRequest job = phantom_job("sphere", 48, std::nullopt, 8);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("sphere", 48, 8);
     r.start(worker.request(job));
     const auto frames = frames_until_finished(worker, r);
     ASSERT_TRUE(r.finished);
@@ -610,8 +612,7 @@ TEST(Worker, FollowingFramesWaitAfterTheLastOne) {
 TEST(Worker, AskedFrameComesQuickThenMeasured) {
     Worker worker;
     JobResults r;
-    JobRequest job = phantom_job("two-spheres", 24, std::nullopt, 5);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("two-spheres", 24, 5);
     r.start(worker.request(job));
     ASSERT_TRUE(pump_until(worker, r, finished));
     worker.show_iteration(r.generation, 2);
@@ -646,8 +647,7 @@ TEST(Worker, AskedFrameComesQuickThenMeasured) {
 TEST(Worker, FramesCarryTheIndexRunsThatChangedSinceTheFrameBefore) {
     Worker worker;
     JobResults r;
-    JobRequest job = phantom_job("two-spheres", 32, std::nullopt, 8);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("two-spheres", 32, 8);
     r.start(worker.request(job));
     std::vector<std::shared_ptr<const DisplayMesh>> frames;
     const auto collect = [&](const std::function<bool()>& done) {
@@ -729,8 +729,7 @@ TEST(Worker, LastFrameKeepsTheGeometryOfItsQuickFrame) {
     int seen = 0;
     for (int attempt = 0; attempt < 5 && seen == 0; ++attempt) {
         JobResults r;
-        JobRequest job = phantom_job("sphere", 40, std::nullopt, 4);
-        job.options.relax.epsilon = 0.0f;
+        JobRequest job = all_iterations_job("sphere", 40, 4);
         r.start(worker.request(job));
         const auto frames = frames_until_finished(worker, r); // every frame is taken at once
         ASSERT_TRUE(r.finished && r.frame);
@@ -808,8 +807,7 @@ bool distances_of_frame(const JobResults& r, ShapeMeasure measure, int iteration
 TEST(Worker, DistancesOnlyWhileChosenAndForTheFrameShown) {
     Worker worker;
     JobResults r;
-    JobRequest job = phantom_job("sphere", 24, std::nullopt, 6);
-    job.options.relax.epsilon = 0.0f;
+    JobRequest job = all_iterations_job("sphere", 24, 6);
     r.start(worker.request(job));
     ASSERT_TRUE(pump_until(worker, r, finished));
     ASSERT_TRUE(pump_until(worker, r, [](const JobResults& x) { return x.frame != nullptr; }));
