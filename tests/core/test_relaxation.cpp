@@ -608,3 +608,79 @@ TEST(MeshGuard, NoTwoTrianglesFoldOntoEachOther) {
     EXPECT_GT(unguarded, 5u);
     EXPECT_EQ(guarded, 0u);
 }
+
+namespace {
+
+// A node (0) and the rim of its star: `quads` quads (node, rim 2k, rim 2k + 1, rim 2k + 2)
+// around it, every node alone in a cell of its own. Positions left to the caller.
+SurfaceNet star_net(int quads) {
+    SurfaceNet net;
+    const int rim = 2 * quads, nodes = 1 + rim;
+    for (int n = 0; n < nodes; ++n) {
+        net.cells.push_back({n, 0, 0});
+        net.pieces.push_back(0);
+        net.regions.push_back(0);
+    }
+    for (int k = 0; k < quads; ++k)
+        net.quads.push_back({0u, std::uint32_t(1 + 2 * k), std::uint32_t(2 + 2 * k),
+                             std::uint32_t(k + 1 < quads ? 3 + 2 * k : 1)});
+    std::vector<std::vector<std::uint32_t>> stars(static_cast<std::size_t>(nodes));
+    for (std::uint32_t q = 0; q < net.quads.size(); ++q)
+        for (const std::uint32_t n : net.quads[q]) stars[n].push_back(q);
+    net.star_offsets.push_back(0);
+    for (const auto& s : stars) {
+        net.star.insert(net.star.end(), s.begin(), s.end());
+        net.star_offsets.push_back(std::uint32_t(net.star.size()));
+    }
+    return net;
+}
+
+// The node at the centre of a ring of radius 2 around z, rim corner j at angle turn * j / rim
+// (degrees) and height height(angle).
+template <class Height>
+std::vector<glm::vec3> star_positions(int quads, double turn, Height height) {
+    const int rim = 2 * quads;
+    const glm::vec3 centre(6.0f);
+    std::vector<glm::vec3> p{centre};
+    for (int j = 0; j < rim; ++j) {
+        const double angle = glm::radians(turn * j / rim);
+        p.push_back(centre + glm::vec3(float(2.0 * std::cos(angle)), float(2.0 * std::sin(angle)),
+                                       float(height(angle))));
+    }
+    return p;
+}
+
+} // namespace
+
+// Every triangle of a star wound twice around its node turns the right way and stands upright,
+// yet its two turns cross each other (they cannot close up otherwise): the guard must see the
+// crossing, not take the star as embedded. Wound once, the same star passes.
+TEST(MeshGuard, StarWoundTwiceAroundItsNodeIsRefused) {
+    for (const int quads : {3, 4, 5, 6}) {
+        const SurfaceNet net = star_net(quads);
+        const auto flat = [](double) { return 0.0; };
+        const std::vector<glm::vec3> once = star_positions(quads, 360.0, flat);
+        // The second turn below the first, the first above: they cross between two corners.
+        const std::vector<glm::vec3> twice = star_positions(
+            quads, 720.0, [](double angle) { return 0.3 * std::sin(angle / 2 + 0.8); });
+        const auto intersections = [&](std::span<const glm::vec3> p) {
+            return count_self_intersections(triangulate(net, p));
+        };
+        ASSERT_EQ(intersections(once), 0u) << quads << " quads";
+        ASSERT_GT(intersections(twice), 0u) << quads << " quads";
+
+        std::vector<glm::vec3> moved = twice;
+        const std::size_t shortened = keep_mesh_valid(net, TriangulationRule::ShorterDiagonal,
+                                                      glm::vec3(1.0f), IndexToWorld{}, once, moved);
+        EXPECT_GT(shortened, 0u) << quads << " quads";
+        EXPECT_EQ(intersections(moved), 0u) << quads << " quads";
+
+        // Wound once and lifted a little, nothing to refuse.
+        std::vector<glm::vec3> lifted =
+            star_positions(quads, 360.0, [](double angle) { return 0.2 * std::sin(angle); });
+        EXPECT_EQ(keep_mesh_valid(net, TriangulationRule::ShorterDiagonal, glm::vec3(1.0f),
+                                  IndexToWorld{}, once, lifted),
+                  0u)
+            << quads << " quads";
+    }
+}
