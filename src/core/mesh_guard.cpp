@@ -214,15 +214,15 @@ glm::vec3 cross_of(const glm::vec3& u, const glm::vec3& v) {
 // star's mean normal, every triangle keeps its orientation and the star's rim turns once around
 // the node, monotonically. Then the projection is one-to-one on the star (the rim is a
 // star-shaped polygon around the node and each polygon fills its own wedge of it), so no two
-// triangles can meet in space. Decided in float with a wide margin; false when unsure, and the
-// pairs are tested (check_cell), which then find nothing either: on a smooth surface this
-// settles nearly every cell.
+// triangles can meet in space (nor fold: see upright below), and the pair tests of check_cell
+// would find nothing. Decided in float with a wide margin; false when unsure, and the pairs are
+// tested. On a smooth surface this settles nearly every cell.
 //
 // Only for a closed star of N quads, 3 <= N <= 6: 99.4-99.6 % of the nodes of the CT's nets at
 // 200 and -500 (a node on the volume border, a non-manifold one, a star with a fixed triangle
 // or an unusually large one gets the pair tests). Runs for every node of every step, so the
 // loops have a fixed length and the corners' products are formed coordinate by coordinate,
-// several corners at once, each test's results joined without a branch each.
+// several corners at once, the tests' results joined without branches.
 template <int N>
 bool quad_star_is_embedded(const SurfaceNet& net, std::uint32_t node, std::uint32_t first,
                            const std::vector<std::uint8_t>& along_ac,
