@@ -54,6 +54,43 @@ float sliver_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     return triangle_shape(a, b, c).quality;
 }
 
+// sliver_quality's first test for kTriangleBlock triangles at once, corner k of triangle t at
+// (x[k][t], y[k][t], z[k][t]): 1 where the smallest angle is surely 18 degrees or more (no
+// sliver), else 0. The same operations in the same order as there, so the same answers; loops
+// of a fixed length over the triangles, which the compiler runs four at a time.
+constexpr int kTriangleBlock = 16;
+struct TriangleBlock {
+    float x[3][kTriangleBlock], y[3][kTriangleBlock], z[3][kTriangleBlock];
+    void set(int t, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+        x[0][t] = a.x, y[0][t] = a.y, z[0][t] = a.z;
+        x[1][t] = b.x, y[1][t] = b.y, z[1][t] = b.z;
+        x[2][t] = c.x, y[2][t] = c.y, z[2][t] = c.z;
+    }
+};
+void no_slivers(const TriangleBlock& block, int (&no_sliver)[kTriangleBlock]) {
+    constexpr float kSin18 = 0.30902f;
+    for (int t = 0; t < kTriangleBlock; ++t) {
+        const float abx = block.x[1][t] - block.x[0][t], aby = block.y[1][t] - block.y[0][t],
+                    abz = block.z[1][t] - block.z[0][t];
+        const float bcx = block.x[2][t] - block.x[1][t], bcy = block.y[2][t] - block.y[1][t],
+                    bcz = block.z[2][t] - block.z[1][t];
+        const float cax = block.x[0][t] - block.x[2][t], cay = block.y[0][t] - block.y[2][t],
+                    caz = block.z[0][t] - block.z[2][t];
+        const float ab2 = abx * abx + aby * aby + abz * abz;
+        const float bc2 = bcx * bcx + bcy * bcy + bcz * bcz;
+        const float ca2 = cax * cax + cay * cay + caz * caz;
+        // ab x (-ca), as glm::cross forms it.
+        const float nx = aby * -caz - -cay * abz, ny = abz * -cax - -caz * abx,
+                    nz = abx * -cay - -cax * aby;
+        const float twice_area2 = nx * nx + ny * ny + nz * nz;
+        float shortest2 = ab2;
+        shortest2 = bc2 < shortest2 ? bc2 : shortest2;
+        shortest2 = ca2 < shortest2 ? ca2 : shortest2;
+        const float product2 = ab2 * bc2 * ca2 / (shortest2 < 1e-30f ? 1e-30f : shortest2);
+        no_sliver[t] = int(twice_area2 >= kSin18 * kSin18 * product2);
+    }
+}
+
 // Positions of the nodes in index space (for the split) and in world space (for the checks):
 // stored (`world`), or mapped from index space when asked (`to_world`, for the step's old
 // positions: read only where a new polygon looks worse, so not worth 12 bytes a node).
@@ -481,19 +518,51 @@ void check_quality(const SurfaceNet& net, TriangulationRule rule, glm::vec3 spac
                    Points new_p, std::span<const std::uint32_t> ids,
                    std::vector<std::uint8_t>& along_ac, std::vector<std::uint8_t>& refused) {
     const std::size_t polygons = ids.empty() ? net.quads.size() + net.triangles.size() : ids.size();
+    const auto split_of = [&](std::uint32_t id) {
+        const bool split_new = splits_along_ac(net, id, new_p.index, rule, spacing);
+        along_ac[id] = split_new ? 1 : 0;
+        return split_new;
+    };
+    // What follows a polygon's quality at the new positions, q.
+    const auto check = [&](std::uint32_t id, float q) {
+        if (q >= float(kSliverQuality)) return;
+        const bool split_old =
+            id < net.quads.size() && splits_along_ac(net, id, old_p.index, rule, spacing);
+        if (q >= polygon_quality(net, id, old_p, split_old)) return;
+        std::array<std::uint32_t, 4> corners{};
+        const int count = polygon_corners(net, id, corners);
+        for (int k = 0; k < count; ++k) mark(refused, corners[std::size_t(k)]);
+    };
     for_each_chunk(polygons, 4096, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
+        std::size_t i = b;
+        // Every quad (the first round): in blocks, both triangles' first test side by side
+        // (polygon_quality gives 1 where both pass), the rare quad that fails it measured alone.
+        constexpr std::size_t kQuads = kTriangleBlock / 2;
+        const std::size_t block_end = ids.empty() ? std::min(e, net.quads.size()) : b;
+        for (; i + kQuads <= block_end; i += kQuads) {
+            TriangleBlock block;
+            bool split[kQuads];
+            for (std::size_t j = 0; j < kQuads; ++j) {
+                const auto id = std::uint32_t(i + j);
+                split[j] = split_of(id);
+                const auto& q = net.quads[id];
+                const auto& c = kQuadSplitCorners[split[j] ? 1 : 0];
+                for (int t = 0; t < 2; ++t)
+                    block.set(int(2 * j) + t, new_p.world_at(q[c[t][0]]),
+                              new_p.world_at(q[c[t][1]]), new_p.world_at(q[c[t][2]]));
+            }
+            int no_sliver[kTriangleBlock];
+            no_slivers(block, no_sliver);
+            for (std::size_t j = 0; j < kQuads; ++j) {
+                if (no_sliver[2 * j] & no_sliver[2 * j + 1]) continue;
+                const auto id = std::uint32_t(i + j);
+                check(id, polygon_quality(net, id, new_p, split[j]));
+            }
+        }
+        for (; i < e; ++i) {
             const auto id = ids.empty() ? std::uint32_t(i) : ids[i];
-            const bool quad = id < net.quads.size();
-            const bool split_new = quad && splits_along_ac(net, id, new_p.index, rule, spacing);
-            if (quad) along_ac[id] = split_new ? 1 : 0;
-            const float q = polygon_quality(net, id, new_p, split_new);
-            if (q >= float(kSliverQuality)) continue;
-            const bool split_old = quad && splits_along_ac(net, id, old_p.index, rule, spacing);
-            if (q >= polygon_quality(net, id, old_p, split_old)) continue;
-            std::array<std::uint32_t, 4> corners{};
-            const int count = polygon_corners(net, id, corners);
-            for (int k = 0; k < count; ++k) mark(refused, corners[std::size_t(k)]);
+            const bool split_new = id < net.quads.size() && split_of(id);
+            check(id, polygon_quality(net, id, new_p, split_new));
         }
     });
 }
@@ -522,17 +591,50 @@ std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule
     // copied out of split_polygon stalled on their own stores).
     for_each_chunk(
         quads + net.triangles.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < std::min(e, quads); ++i) {
-                const auto& q = net.quads[i];
-                const glm::vec3 p[4] = {positions[q[0]] * shape, positions[q[1]] * shape,
-                                        positions[q[2]] * shape, positions[q[3]] * shape};
-                const bool along =
-                    splits.empty() ? splits_along_ac(net, std::uint32_t(i), positions, rule, shape)
-                                   : splits[i] != 0;
-                for (const auto& c : kQuadSplitCorners[along ? 1 : 0])
-                    mark_sliver_apex(p[c[0]], p[c[1]], p[c[2]], {q[c[0]], q[c[1]], q[c[2]]}, apex);
+            // A quad's corners in shape space and its split's triangles.
+            const auto quad_corners = [&](std::size_t quad,
+                                          glm::vec3(&p)[4]) -> const std::uint8_t(&)[2][3] {
+                const auto& q = net.quads[quad];
+                for (int k = 0; k < 4; ++k) p[k] = positions[q[std::size_t(k)]] * shape;
+                const bool along = splits.empty() ? splits_along_ac(net, std::uint32_t(quad),
+                                                                    positions, rule, shape)
+                                                  : splits[quad] != 0;
+                return kQuadSplitCorners[along ? 1 : 0];
+            };
+            const auto mark_quad = [&](std::size_t quad, const glm::vec3(&p)[4],
+                                       const std::uint8_t(&split)[2][3], int triangle) {
+                const auto& q = net.quads[quad];
+                const auto& c = split[triangle];
+                mark_sliver_apex(p[c[0]], p[c[1]], p[c[2]], {q[c[0]], q[c[1]], q[c[2]]}, apex);
+            };
+            // Quads in blocks: both triangles' first test side by side, the rare triangle that
+            // fails it measured alone.
+            constexpr std::size_t kQuads = kTriangleBlock / 2;
+            std::size_t i = b;
+            const std::size_t end = std::min(e, quads);
+            for (; i + kQuads <= end; i += kQuads) {
+                TriangleBlock block;
+                for (std::size_t j = 0; j < kQuads; ++j) {
+                    glm::vec3 p[4];
+                    const auto& split = quad_corners(i + j, p);
+                    for (int t = 0; t < 2; ++t)
+                        block.set(int(2 * j) + t, p[split[t][0]], p[split[t][1]], p[split[t][2]]);
+                }
+                int no_sliver[kTriangleBlock];
+                no_slivers(block, no_sliver);
+                for (std::size_t j = 0; j < kQuads; ++j) {
+                    if (no_sliver[2 * j] & no_sliver[2 * j + 1]) continue;
+                    glm::vec3 p[4];
+                    const auto& split = quad_corners(i + j, p);
+                    for (int t = 0; t < 2; ++t) mark_quad(i + j, p, split, t);
+                }
             }
-            for (std::size_t i = std::max(b, quads); i < e; ++i) {
+            for (; i < end; ++i) {
+                glm::vec3 p[4];
+                const auto& split = quad_corners(i, p);
+                for (int t = 0; t < 2; ++t) mark_quad(i, p, split, t);
+            }
+            for (i = std::max(b, quads); i < e; ++i) {
                 const auto& t = net.triangles[i - quads];
                 mark_sliver_apex(positions[t[0]] * shape, positions[t[1]] * shape,
                                  positions[t[2]] * shape, {t[0], t[1], t[2]}, apex);
