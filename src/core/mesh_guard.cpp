@@ -37,27 +37,40 @@ int split_polygon(const SurfaceNet& net, std::uint32_t id, bool along_ac, Triang
     return 2;
 }
 
-// Smallest / largest angle (world units), as the metrics measure it (triangle_shape), but
-// cheap for the many triangles whose smallest angle is at least 18 degrees: their ratio is at
-// least 0.1 whatever the largest, so they count as 1 (no sliver). sin(smallest) = 2 area /
-// (product of the two longer sides).
-// Compared squared, so the common case takes no square root.
-float sliver_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    const glm::vec3 ab = b - a, bc = c - b, ca = a - c;
-    const float ab2 = glm::dot(ab, ab), bc2 = glm::dot(bc, bc), ca2 = glm::dot(ca, ca);
-    const glm::vec3 normal = glm::cross(ab, -ca);
-    const float twice_area2 = glm::dot(normal, normal);
-    const float shortest2 = std::min({ab2, bc2, ca2});
-    const float product2 = ab2 * bc2 * ca2 / std::max(shortest2, 1e-30f);
+// True when the smallest angle of triangle (a, b, c) is 18 degrees or more: then its smallest /
+// largest angle ratio is at least 0.1 whatever the largest, so it is no sliver. sin(smallest) =
+// 2 area / (product of the two longer sides), compared squared, so it takes no square root.
+// On coordinates, so that the blocks below run it four triangles at a time.
+inline bool angles_all_18_or_more(float ax, float ay, float az, float bx, float by, float bz,
+                                  float cx, float cy, float cz) {
+    const float abx = bx - ax, aby = by - ay, abz = bz - az;
+    const float bcx = cx - bx, bcy = cy - by, bcz = cz - bz;
+    const float cax = ax - cx, cay = ay - cy, caz = az - cz;
+    const float ab2 = abx * abx + aby * aby + abz * abz;
+    const float bc2 = bcx * bcx + bcy * bcy + bcz * bcz;
+    const float ca2 = cax * cax + cay * cay + caz * caz;
+    // ab x (-ca), twice the area's vector.
+    const float nx = aby * -caz - -cay * abz, ny = abz * -cax - -caz * abx,
+                nz = abx * -cay - -cax * aby;
+    const float twice_area2 = nx * nx + ny * ny + nz * nz;
+    float shortest2 = ab2;
+    shortest2 = bc2 < shortest2 ? bc2 : shortest2;
+    shortest2 = ca2 < shortest2 ? ca2 : shortest2;
+    const float product2 = ab2 * bc2 * ca2 / (shortest2 < 1e-30f ? 1e-30f : shortest2);
     constexpr float kSin18 = 0.30902f;
-    if (twice_area2 >= kSin18 * kSin18 * product2) return 1.0f; // not a sliver
+    return twice_area2 >= kSin18 * kSin18 * product2;
+}
+
+// Smallest / largest angle (world units), as the metrics measure it (triangle_shape), but
+// cheap for the many triangles whose smallest angle is at least 18 degrees: they count as 1.
+float sliver_quality(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    if (angles_all_18_or_more(a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z)) return 1.0f;
     return triangle_shape(a, b, c).quality;
 }
 
-// sliver_quality's first test for kTriangleBlock triangles at once, corner k of triangle t at
-// (x[k][t], y[k][t], z[k][t]): 1 where the smallest angle is surely 18 degrees or more (no
-// sliver), else 0. The same operations in the same order as there, so the same answers; loops
-// of a fixed length over the triangles, which the compiler runs four at a time.
+// angles_all_18_or_more for kTriangleBlock triangles at once, corner k of triangle t at
+// (x[k][t], y[k][t], z[k][t]): 1 where it holds (no sliver), else 0. A loop of a fixed length
+// over the triangles, which the compiler runs four at a time.
 constexpr int kTriangleBlock = 16;
 struct TriangleBlock {
     float x[3][kTriangleBlock], y[3][kTriangleBlock], z[3][kTriangleBlock];
@@ -68,27 +81,10 @@ struct TriangleBlock {
     }
 };
 void no_slivers(const TriangleBlock& block, int (&no_sliver)[kTriangleBlock]) {
-    constexpr float kSin18 = 0.30902f;
-    for (int t = 0; t < kTriangleBlock; ++t) {
-        const float abx = block.x[1][t] - block.x[0][t], aby = block.y[1][t] - block.y[0][t],
-                    abz = block.z[1][t] - block.z[0][t];
-        const float bcx = block.x[2][t] - block.x[1][t], bcy = block.y[2][t] - block.y[1][t],
-                    bcz = block.z[2][t] - block.z[1][t];
-        const float cax = block.x[0][t] - block.x[2][t], cay = block.y[0][t] - block.y[2][t],
-                    caz = block.z[0][t] - block.z[2][t];
-        const float ab2 = abx * abx + aby * aby + abz * abz;
-        const float bc2 = bcx * bcx + bcy * bcy + bcz * bcz;
-        const float ca2 = cax * cax + cay * cay + caz * caz;
-        // ab x (-ca), as glm::cross forms it.
-        const float nx = aby * -caz - -cay * abz, ny = abz * -cax - -caz * abx,
-                    nz = abx * -cay - -cax * aby;
-        const float twice_area2 = nx * nx + ny * ny + nz * nz;
-        float shortest2 = ab2;
-        shortest2 = bc2 < shortest2 ? bc2 : shortest2;
-        shortest2 = ca2 < shortest2 ? ca2 : shortest2;
-        const float product2 = ab2 * bc2 * ca2 / (shortest2 < 1e-30f ? 1e-30f : shortest2);
-        no_sliver[t] = int(twice_area2 >= kSin18 * kSin18 * product2);
-    }
+    for (int t = 0; t < kTriangleBlock; ++t)
+        no_sliver[t] = int(angles_all_18_or_more(block.x[0][t], block.y[0][t], block.z[0][t],
+                                                 block.x[1][t], block.y[1][t], block.z[1][t],
+                                                 block.x[2][t], block.y[2][t], block.z[2][t]));
 }
 
 // Positions of the nodes in index space (for the split) and in world space (for the checks):
