@@ -355,11 +355,10 @@ TriangleMeasures triangle_measures(const Mesh& mesh) {
     check_mesh(mesh);
     TriangleMeasures m;
     const std::size_t n = mesh.triangle_count();
-    m.quality.resize(n);
-    m.quality60.resize(n);
-    m.radius_ratio.resize(n);
-    m.min_angle.resize(n);
-    m.max_angle.resize(n);
+    // Each frame the app shows has its triangles measured: fresh buffers on huge pages.
+    for (std::vector<float>* values :
+         {&m.quality, &m.quality60, &m.radius_ratio, &m.min_angle, &m.max_angle})
+        detail::resize_on_huge_pages(*values, n);
     for_each_chunk(n, kTriangleChunk, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t t = b; t < e; ++t) {
             const std::uint32_t* i = &mesh.indices[3 * t];

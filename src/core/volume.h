@@ -67,9 +67,10 @@ ValueGradient sample_value_gradient(const Volume& volume, glm::vec3 p);
 // vertices of a mesh) share them, and the corners take 32 sample reads and 24 differences,
 // the interpolation only a few mixes.
 struct CellCorners {
-    glm::ivec3 base{-1};  // the cell's lower corner, as sampling clamps it; -1: none held yet
-    float value[2][2][2]; // filled with base, so left uninitialised here
-    glm::vec3 gradient[2][2][2];
+    glm::ivec3 base{-1}; // the cell's lower corner, as sampling clamps it; -1: none held yet
+    // Corner x + 2 y + 4 z: its sample, then its differences along x, y and z. Four values a
+    // corner, so that one mix interpolates all four. Filled with base, so left uninitialised.
+    alignas(16) float corner[8][4];
 };
 // sample_value_gradient, bit for bit, taking the corners from `kept` when p lies in the cell it
 // holds, else filling it with p's cell. `kept` must only ever be used with this one volume.
