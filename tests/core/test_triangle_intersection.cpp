@@ -98,6 +98,40 @@ TEST(Orient, Orient2dNearCollinear) {
         }
 }
 
+// Points sharing a coordinate lie in an axis-aligned plane (or on an axis-parallel line): the
+// predicates answer 0 without their exact stage, and points off that plane or line by one grid
+// step still get the exact sign, whatever the size of the other coordinates.
+TEST(Orient, PointsSharingACoordinateAreExactlyCoplanar) {
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> coord(-(1 << 20), (1 << 20));
+    std::uniform_int_distribution<int> step(-1, 1);
+    const auto on_grid = [&] { return float(coord(rng) * kGrid); };
+    int off = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const int axis = i % 3;
+        const float shared = on_grid();
+        V p[4];
+        for (V& q : p) {
+            q = V(on_grid(), on_grid(), on_grid());
+            q[axis] = shared;
+        }
+        ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), 0) << i;
+        ASSERT_EQ(orient3d(p[3], p[1], p[0], p[2]), 0) << i;
+        // One corner a grid step off the plane: the sign of the exact determinant.
+        p[i % 4][axis] = float((double(shared) / kGrid + step(rng)) * kGrid);
+        off += p[i % 4][axis] != shared;
+        ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), exact_orient3d(p[0], p[1], p[2], p[3])) << i;
+        // In the plane: three points on a line parallel to an axis, then one moved off it.
+        const glm::vec2 a(shared, on_grid()), b(shared, on_grid()), c(shared, on_grid());
+        ASSERT_EQ(orient2d(a, b, c), 0) << i;
+        ASSERT_EQ(orient2d({a.y, a.x}, {b.y, b.x}, {c.y, c.x}), 0) << i;
+        const glm::vec2 moved(shared + float(kGrid), c.y);
+        const int expected = exact_orient3d(V(a, 0), V(b, 0), V(moved, 0), V(0, 0, 1));
+        ASSERT_EQ(orient2d(a, b, moved), -expected) << i; // d above: orient3d = -orient2d
+    }
+    EXPECT_GT(off, 10000); // most cases had a corner off the plane
+}
+
 TEST(Orient, Orient3dSignConvention) {
     // d above (on the normal's side of) the counter-clockwise triangle: negative.
     EXPECT_EQ(orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}), -1);
