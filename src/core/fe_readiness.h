@@ -12,11 +12,6 @@
 
 namespace snert {
 
-// Thresholds of the shares, in degrees.
-inline constexpr double kFeSmallAngle = 15.0;
-inline constexpr double kFeNarrowAngle = 30.0;
-inline constexpr double kFeObtuseAngle = 120.0;
-
 struct FeReadiness {
     std::size_t triangles = 0;
     // Shares of all triangles in [0, 1]; a degenerate triangle counts as smallest angle 0 and
@@ -37,6 +32,10 @@ struct FeReadiness {
 // topology and the self-intersections as measure() found them for the same mesh. Deterministic
 // whatever the thread count. Throws std::invalid_argument for a bad index.
 FeReadiness fe_readiness(const Mesh& world_mesh, const Topology& topology,
+                         std::size_t self_intersections);
+// The same from the quality_stats() of the world mesh, whose pass over the triangles gathers what
+// the summary reads of their shapes: measure() takes both from one pass.
+FeReadiness fe_readiness(const QualityStats& world_quality, const Topology& topology,
                          std::size_t self_intersections);
 
 } // namespace snert

@@ -403,6 +403,9 @@ QualityStats quality_stats(const Mesh& mesh) {
         double min_quality = 1, min_angle = 180;
         std::size_t degenerate = 0, slivers = 0;
         std::array<std::size_t, kQualityBins> histogram{};
+        std::size_t below_15 = 0, below_30 = 0, above_120 = 0;
+        double radius_min = std::numeric_limits<double>::infinity(), radius_max = 0;
+        double aspect_min = std::numeric_limits<double>::infinity(), aspect_max = 0;
     };
     std::vector<Partial> partials((triangles + kTriangleChunk - 1) / kTriangleChunk);
     for_each_chunk(triangles, kTriangleChunk, [&](std::size_t chunk, std::size_t b, std::size_t e) {
@@ -420,6 +423,13 @@ QualityStats quality_stats(const Mesh& mesh) {
             part.slivers += double(s.quality) < kSliverQuality ? 1 : 0;
             const int bin = std::min(kQualityBins - 1, int(s.quality * kQualityBins));
             ++part.histogram[std::size_t(std::max(0, bin))];
+            part.below_15 += s.min_angle < kFeSmallAngle ? 1 : 0;
+            part.below_30 += s.min_angle < kFeNarrowAngle ? 1 : 0;
+            part.above_120 += s.max_angle > kFeObtuseAngle ? 1 : 0;
+            part.radius_min = std::min(part.radius_min, double(s.radius_ratio));
+            part.radius_max = std::max(part.radius_max, double(s.radius_ratio));
+            part.aspect_min = std::min(part.aspect_min, double(s.aspect_ratio));
+            part.aspect_max = std::max(part.aspect_max, double(s.aspect_ratio));
         }
         partials[chunk] = part;
     });
@@ -434,6 +444,14 @@ QualityStats quality_stats(const Mesh& mesh) {
         total.degenerate += part.degenerate;
         total.slivers += part.slivers;
         for (int i = 0; i < kQualityBins; ++i) total.histogram[i] += part.histogram[i];
+        // Counts and extremes: exact in any order.
+        total.below_15 += part.below_15;
+        total.below_30 += part.below_30;
+        total.above_120 += part.above_120;
+        total.radius_min = std::min(total.radius_min, part.radius_min);
+        total.radius_max = std::max(total.radius_max, part.radius_max);
+        total.aspect_min = std::min(total.aspect_min, part.aspect_min);
+        total.aspect_max = std::max(total.aspect_max, part.aspect_max);
     }
     const double n = double(triangles);
     stats.mean = total.quality / n;
@@ -443,6 +461,14 @@ QualityStats quality_stats(const Mesh& mesh) {
     stats.min_angle_min = total.min_angle;
     stats.degenerate = total.degenerate;
     stats.slivers = total.slivers;
+    stats.triangles = triangles;
+    stats.min_angle_below_15 = total.below_15;
+    stats.min_angle_below_30 = total.below_30;
+    stats.max_angle_above_120 = total.above_120;
+    stats.radius_ratio_min = total.radius_min;
+    stats.radius_ratio_max = total.radius_max;
+    stats.aspect_ratio_min = total.aspect_min;
+    stats.aspect_ratio_max = total.aspect_max;
     stats.histogram = total.histogram;
     return stats;
 }

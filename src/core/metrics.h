@@ -107,6 +107,12 @@ inline constexpr double kSliverQuality = 0.1;
 
 // Statistics over all triangles; degenerate ones take part with quality 0 (they are the worst
 // triangles, not missing ones). All zero for a mesh without triangles.
+// The angle limits of the FE-readiness summary (fe_readiness.h), in degrees: its shares of
+// triangles with a smallest angle under the first two, a largest angle over the third.
+inline constexpr double kFeSmallAngle = 15.0;
+inline constexpr double kFeNarrowAngle = 30.0;
+inline constexpr double kFeObtuseAngle = 120.0;
+
 struct QualityStats {
     double mean = 0, min = 0;     // smallest / largest angle (best 1)
     double quality60_mean = 0;    // best 1
@@ -117,6 +123,12 @@ struct QualityStats {
     // Counts of quality over [0, 1]: bin i holds [i / kQualityBins, (i + 1) / kQualityBins), the
     // last bin also holds q = 1.
     std::array<std::size_t, kQualityBins> histogram{};
+    // For the FE-readiness summary, from the same pass: the triangles, those against its angle
+    // limits, and the ranges of two measures (0 for a mesh without triangles).
+    std::size_t triangles = 0;
+    std::size_t min_angle_below_15 = 0, min_angle_below_30 = 0, max_angle_above_120 = 0;
+    double radius_ratio_min = 0, radius_ratio_max = 0; // 2 r / R
+    double aspect_ratio_min = 0, aspect_ratio_max = 0; // Verdict's aspect ratio
 };
 QualityStats quality_stats(const Mesh& mesh);
 

@@ -70,7 +70,7 @@ MethodMetrics measure_into_world(Mesh& mesh, const Volume& volume,
     m.self_intersections = count_self_intersections(mesh);
     m.fe_ready = m.triangles > 0 && m.boundary_edges_off_border == 0 && m.topology.manifold &&
                  m.self_intersections == 0 && m.quality.degenerate == 0;
-    m.fe = fe_readiness(mesh, m.topology, m.self_intersections);
+    m.fe = fe_readiness(m.quality, m.topology, m.self_intersections); // from quality's pass
     m.area = surface_area(mesh);
     m.volume = enclosed_volume(mesh);
     return m;
