@@ -1,16 +1,10 @@
 #include "fe_readiness.h"
 
-#include <stdexcept>
-#include <string>
-
 namespace snert {
 
+// quality_stats() checks the indices (std::invalid_argument).
 FeReadiness fe_readiness(const Mesh& mesh, const Topology& topology,
                          std::size_t self_intersections) {
-    if (mesh.indices.size() % 3 != 0)
-        throw std::invalid_argument("fe_readiness: index count is not a multiple of 3");
-    if (const auto i = first_index_out_of_range(mesh))
-        throw std::invalid_argument("fe_readiness: index " + std::to_string(*i) + " out of range");
     return fe_readiness(quality_stats(mesh), topology, self_intersections);
 }
 

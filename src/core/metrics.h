@@ -105,14 +105,14 @@ MeasureSummary summarize_measure(std::span<const float> values, const MeasureSca
 // (quality 0) are slivers too.
 inline constexpr double kSliverQuality = 0.1;
 
-// Statistics over all triangles; degenerate ones take part with quality 0 (they are the worst
-// triangles, not missing ones). All zero for a mesh without triangles.
 // The angle limits of the FE-readiness summary (fe_readiness.h), in degrees: its shares of
 // triangles with a smallest angle under the first two, a largest angle over the third.
 inline constexpr double kFeSmallAngle = 15.0;
 inline constexpr double kFeNarrowAngle = 30.0;
 inline constexpr double kFeObtuseAngle = 120.0;
 
+// Statistics over all triangles; degenerate ones take part with quality 0 (they are the worst
+// triangles, not missing ones). All zero for a mesh without triangles.
 struct QualityStats {
     double mean = 0, min = 0;     // smallest / largest angle (best 1)
     double quality60_mean = 0;    // best 1
