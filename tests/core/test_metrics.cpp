@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <map>
@@ -720,6 +721,53 @@ TEST(MeshDistance, BorrowedThroughAMapMatchesAMappedCopy) {
     }
     EXPECT_EQ(world.positions, before.positions);
     EXPECT_EQ(world.indices, before.indices);
+}
+
+// Slivers, right, obtuse and acute triangles side by side, as Marching Cubes makes them: a wavy
+// height field over a grid whose points are pushed far along x and y. Each triangle is asked near
+// its corners, sides and centre, just off its surface, where a neighbour is nearly as near: a
+// triangle's bounding sphere that missed a part of it would lose that part to the neighbour.
+TEST(MeshDistance, SliversAndObtuseTrianglesMatchBruteForce) {
+    constexpr int kSide = 16;
+    std::mt19937 random(5);
+    std::uniform_real_distribution<float> jitter(-0.45f, 0.45f);
+    Mesh m;
+    for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x) {
+            const float px = float(x) + jitter(random), py = float(y) + jitter(random);
+            m.positions.push_back({px, py, 2.0f * std::sin(0.4f * px) * std::cos(0.3f * py)});
+        }
+    for (std::uint32_t y = 0; y + 1 < kSide; ++y)
+        for (std::uint32_t x = 0; x + 1 < kSide; ++x) {
+            const std::uint32_t a = y * kSide + x, b = a + 1, c = a + kSide, d = c + 1;
+            if ((x + y) % 2 == 0)
+                m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+            else
+                m.indices.insert(m.indices.end(), {a, b, c, b, d, c});
+        }
+    int obtuse = 0;
+    std::vector<glm::vec3> points;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        const glm::vec3 a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
+                        c = m.positions[m.indices[t + 2]];
+        if (glm::dot(b - a, c - a) < 0 || glm::dot(a - b, c - b) < 0 || glm::dot(a - c, b - c) < 0)
+            ++obtuse;
+        const glm::vec3 n = 1e-3f * glm::normalize(glm::cross(b - a, c - a));
+        for (const glm::vec3 w : {glm::vec3(0.96f, 0.02f, 0.02f), glm::vec3(0.02f, 0.96f, 0.02f),
+                                  glm::vec3(0.02f, 0.02f, 0.96f), glm::vec3(0.49f, 0.49f, 0.02f),
+                                  glm::vec3(0.02f, 0.49f, 0.49f), glm::vec3(0.49f, 0.02f, 0.49f),
+                                  glm::vec3(1.0f / 3.0f)}) {
+            const glm::vec3 p = w.x * a + w.y * b + w.z * c;
+            points.insert(points.end(), {p + n, p - n});
+        }
+    }
+    EXPECT_GT(obtuse, int(m.triangle_count()) / 4); // the case the sphere's centre is chosen for
+    const MeshDistance d(m);
+    std::shuffle(points.begin(), points.end(), random);
+    for (const glm::vec3& p : points) {
+        const double expected = brute_force_distance(m, p);
+        ASSERT_NEAR(d(p), expected, 1e-6) << p.x << ' ' << p.y << ' ' << p.z;
+    }
 }
 
 // Two small triangles 2000 edges apart: a query half-way lies more than 255 cells from either,
