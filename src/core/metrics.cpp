@@ -774,14 +774,20 @@ struct MeshDistance::Impl {
     glm::ivec3 dims{1};
     double coordinate_size = 0;       // the largest |coordinate| of the triangles' bounding box
     detail::CellLists cell_triangles; // the triangles of each cell
-    // Chessboard distance (cells) to an occupied cell, at most 255: a lower bound either way.
+    // Chessboard distance to an occupied block, at most 255 (a lower bound either way), over
+    // blocks of shell_scale^3 cells, at most kMaxShellBlocks: a byte a cell would add 8 MB at a
+    // clinical comparison's peak of memory, which is this distance's. empty_cells() turns it into
+    // cells.
     std::vector<std::uint8_t> empty_shells;
+    int shell_scale = 1, shell_shift = 0; // a power of two and its log
+    glm::ivec3 shell_dims{1};
 
     // This grid's own number (no other grid of the process has it), for the per-thread caches
     // of distance(): unlike an address, it is never reused by a later grid.
     std::uint64_t serial = 0;
 
-    static constexpr std::size_t kMaxCells = std::size_t(1) << 22;
+    static constexpr std::size_t kMaxCells = std::size_t(1) << 23;
+    static constexpr std::size_t kMaxShellBlocks = std::size_t(1) << 18;
 
     explicit Impl(Mesh&& reference);
     Impl(const Mesh& reference, const WorldToIndex& map);
@@ -842,6 +848,18 @@ struct MeshDistance::Impl {
     void choose_grid();
     void fill_cells();
     void compute_empty_shells();
+    std::size_t block_index(int x, int y, int z) const {
+        return (std::size_t(z) * std::size_t(shell_dims.y) + std::size_t(y)) *
+                   std::size_t(shell_dims.x) +
+               std::size_t(x);
+    }
+    // A lower bound of the chessboard distance (cells) from cell (x, y, z) to an occupied cell:
+    // D blocks apart along an axis are at least scale * D - (scale - 1) cells apart.
+    int empty_cells(int x, int y, int z) const {
+        const int blocks =
+            empty_shells[block_index(x >> shell_shift, y >> shell_shift, z >> shell_shift)];
+        return blocks == 0 ? 0 : blocks * shell_scale - (shell_scale - 1);
+    }
     template <class Visit> void for_each_occupied_cell(glm::ivec3 home, int r, Visit&& visit) const;
     double squared_distance_to_cell(glm::dvec3 p, glm::ivec3 c) const;
     static double squared_distance_to_segment(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b);
@@ -989,6 +1007,16 @@ void MeshDistance::Impl::choose_grid() {
                       int(cells_along(extent.z)));
     origin = lo;
     inverse_cell = 1.0 / cell;
+    shell_scale = 1;
+    shell_shift = 0;
+    const auto blocks_along = [&](int n) { return (n + shell_scale - 1) / shell_scale; };
+    while (std::size_t(blocks_along(dims.x)) * std::size_t(blocks_along(dims.y)) *
+               std::size_t(blocks_along(dims.z)) >
+           kMaxShellBlocks) {
+        shell_scale *= 2;
+        ++shell_shift;
+    }
+    shell_dims = glm::ivec3(blocks_along(dims.x), blocks_along(dims.y), blocks_along(dims.z));
     const glm::dvec3 size = glm::max(glm::abs(lo), glm::abs(hi));
     coordinate_size = std::max({size.x, size.y, size.z});
 }
@@ -1012,17 +1040,23 @@ void MeshDistance::Impl::fill_cells() {
         "mesh distance");
 }
 
-// Two raster passes, each taking the minimum over the 13 already visited neighbours plus one:
-// with unit weights this is the exact chessboard distance to the nearest occupied cell. Of a
-// cell's 13 neighbours 12 lie in rows finished before its own (the row before it in its slice and
-// three rows of the slice before): their minimum is taken for a whole row at once, in loops the
-// compiler vectorises; the last, the cell before it in its row, in a scan along the row.
+// Over the blocks, two raster passes, each taking the minimum over the 13 already visited
+// neighbours plus one: with unit weights this is the exact chessboard distance to the nearest
+// occupied block. Of a block's 13 neighbours 12 lie in rows finished before its own (the row before
+// it in its slice and three rows of the slice before): their minimum is taken for a whole row at
+// once, in loops the compiler vectorises; the last, the block before it in its row, in a scan.
 void MeshDistance::Impl::compute_empty_shells() {
-    const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
+    const std::size_t blocks =
+        std::size_t(shell_dims.x) * std::size_t(shell_dims.y) * std::size_t(shell_dims.z);
     constexpr std::uint8_t kFar = std::numeric_limits<std::uint8_t>::max();
-    empty_shells.assign(cells, kFar);
-    cell_triangles.for_each_occupied([&](std::size_t c) { empty_shells[c] = 0; });
-    const std::size_t width = std::size_t(dims.x);
+    empty_shells.assign(blocks, kFar);
+    const std::size_t along_x = std::size_t(dims.x), along_xy = along_x * std::size_t(dims.y);
+    cell_triangles.for_each_occupied([&](std::size_t c) {
+        const int x = int(c % along_x), y = int(c / along_x % std::size_t(dims.y)),
+                  z = int(c / along_xy);
+        empty_shells[block_index(x >> shell_shift, y >> shell_shift, z >> shell_shift)] = 0;
+    });
+    const std::size_t width = std::size_t(shell_dims.x);
     std::vector<std::uint8_t> nearest(width);
     // m[x] = min(m[x], r[x]) in blocks of 16: loops of a known length, which GCC vectorises at -O2.
     const auto min_into = [](std::uint8_t* __restrict m, const std::uint8_t* __restrict r,
@@ -1041,19 +1075,21 @@ void MeshDistance::Impl::compute_empty_shells() {
     };
     // step +1: rows and cells in increasing order; -1: decreasing (the neighbours mirrored).
     const auto pass = [&](int step) {
-        for (int zi = 0; zi < dims.z; ++zi)
-            for (int yi = 0; yi < dims.y; ++yi) {
-                const int z = step > 0 ? zi : dims.z - 1 - zi;
-                const int y = step > 0 ? yi : dims.y - 1 - yi;
+        for (int zi = 0; zi < shell_dims.z; ++zi)
+            for (int yi = 0; yi < shell_dims.y; ++yi) {
+                const int z = step > 0 ? zi : shell_dims.z - 1 - zi;
+                const int y = step > 0 ? yi : shell_dims.y - 1 - yi;
                 const auto row = [&](int ry, int rz) {
-                    return &empty_shells[cell_index(0, ry, rz)];
+                    return &empty_shells[block_index(0, ry, rz)];
                 };
                 std::fill(nearest.begin(), nearest.end(), kFar);
                 const int before_y = y - step, before_z = z - step;
-                if (before_y >= 0 && before_y < dims.y) take_row(nearest.data(), row(before_y, z));
-                if (before_z >= 0 && before_z < dims.z)
+                if (before_y >= 0 && before_y < shell_dims.y)
+                    take_row(nearest.data(), row(before_y, z));
+                if (before_z >= 0 && before_z < shell_dims.z)
                     for (int ry = y - 1; ry <= y + 1; ++ry)
-                        if (ry >= 0 && ry < dims.y) take_row(nearest.data(), row(ry, before_z));
+                        if (ry >= 0 && ry < shell_dims.y)
+                            take_row(nearest.data(), row(ry, before_z));
                 std::uint8_t* e = row(y, z);
                 std::uint8_t previous = kFar; // the cell before in the row, as updated
                 for (std::size_t xi = 0; xi < width; ++xi) {
@@ -1081,16 +1117,16 @@ void MeshDistance::Impl::for_each_occupied_cell(glm::ivec3 home, int r, Visit&& 
     auto row = [&](int y, int z) {
         for (int x = clo.x; x <= chi.x;) {
             const std::size_t c = cell_index(x, y, z);
-            const int skip = empty_shells[c];
-            if (skip == 0) visit(glm::ivec3(x, y, z), c);
+            const int skip = empty_cells(x, y, z);
+            if (skip == 0 && cell_triangles.occupied(c)) visit(glm::ivec3(x, y, z), c);
             x += std::max(1, skip);
         }
     };
     auto column = [&](int x, int y_first, int y_last, int z) {
         for (int y = y_first; y <= y_last;) {
             const std::size_t c = cell_index(x, y, z);
-            const int skip = empty_shells[c];
-            if (skip == 0) visit(glm::ivec3(x, y, z), c);
+            const int skip = empty_cells(x, y, z);
+            if (skip == 0 && cell_triangles.occupied(c)) visit(glm::ivec3(x, y, z), c);
             y += std::max(1, skip);
         }
     };
@@ -1213,7 +1249,7 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
     thread_local std::vector<Candidate> candidates;
     thread_local std::vector<std::uint32_t> near; // a cell's triangles whose sphere is in reach
     // Shells nearer than the distance transform says are empty are skipped.
-    for (int r = empty_shells[cell_index(home.x, home.y, home.z)];; ++r) {
+    for (int r = empty_cells(home.x, home.y, home.z);; ++r) {
         candidates.clear();
         for_each_occupied_cell(home, r, [&](glm::ivec3 c, std::size_t index) {
             const double d = squared_distance_to_cell(p, c);

@@ -782,5 +782,26 @@ TEST(MeshDistance, FarBeyondTheShellCountItSkips) {
         EXPECT_NEAR(d(p), brute_force_distance(m, p), 1e-6 * brute_force_distance(m, p));
 }
 
+// Small triangles scattered through a large box: far more cells than the grid's cap, and the map
+// of empty space kept over blocks of cells (a byte a block, not a cell). Queries in the empty
+// space between them skip whole blocks and must still find the nearest triangle.
+TEST(MeshDistance, EmptySpaceSkippedBlockByBlockStaysExact) {
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> box(0.0f, 300.0f), small(-0.5f, 0.5f);
+    Mesh m;
+    for (std::uint32_t t = 0; t < 60; ++t) {
+        const glm::vec3 a(box(random), box(random), box(random));
+        m.positions.insert(m.positions.end(), {a, a + glm::vec3(small(random), small(random), 0.6f),
+                                               a + glm::vec3(0.6f, small(random), small(random))});
+        m.indices.insert(m.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    const MeshDistance d(m);
+    for (int i = 0; i < 400; ++i) {
+        const glm::vec3 p(box(random), box(random), box(random));
+        const double expected = brute_force_distance(m, p);
+        ASSERT_NEAR(d(p), expected, 1e-5 * expected) << p.x << ' ' << p.y << ' ' << p.z;
+    }
+}
+
 } // namespace
 } // namespace snert
