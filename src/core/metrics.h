@@ -215,9 +215,9 @@ SurfaceDistance surface_distance(const Mesh& mesh, const DistanceFunction& dista
 
 // Exact Euclidean distance from points to a triangle mesh, accelerated by a uniform grid in which
 // each triangle is listed in every cell its bounding box overlaps (cell size about the mean edge
-// length, at most a few million cells). A query visits cubic shells of cells around the point's
-// cell, skipping shells known to be empty from a chessboard distance transform of the occupied
-// cells, and stops once no unvisited cell can hold anything nearer: never all pairs.
+// length, at most about eight million cells). A query visits cubic shells of cells around the
+// point's cell, skipping shells known to be empty from a chessboard distance transform over blocks
+// of cells, and stops once no unvisited cell can hold anything nearer: never all pairs.
 // Build once, query many times; queries are const and thread-safe; copies share the grid.
 class MeshDistance {
   public:
