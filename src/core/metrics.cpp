@@ -1241,9 +1241,12 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
         prune_root = std::sqrt(best * kMargin + slack);
         nearest = triangle;
     };
+    // The start's triangle is measured once: met again in a cell, it could only tie with itself.
+    std::uint32_t started_from = kNone;
     if (hint.owner == this && hint.triangle < spheres.size()) {
-        const Measured& t = measured(hint.triangle);
-        take(squared_distance_to_triangle(p, t.corners, t.plane), hint.triangle);
+        started_from = hint.triangle;
+        const Measured& t = measured(started_from);
+        take(squared_distance_to_triangle(p, t.corners, t.plane), started_from);
     }
     // Reused by each thread: no allocation per query.
     thread_local std::vector<Candidate> candidates;
@@ -1268,6 +1271,7 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
                 cell_triangles.items(candidate.cell), near,
                 [&](std::uint32_t id) { return sphere_within(p, spheres[id], prune_root); });
             for (const std::uint32_t id : kept) {
+                if (id == started_from) continue;
                 const Sphere& sphere = spheres[id];
                 if (!sphere_within(p, sphere, prune_root)) continue;
                 const double reach = prune_root + double(sphere.radius());
