@@ -775,11 +775,11 @@ struct MeshDistance::Impl {
     double coordinate_size = 0;       // the largest |coordinate| of the triangles' bounding box
     detail::CellLists cell_triangles; // the triangles of each cell
     // Chessboard distance to an occupied block, at most 255 (a lower bound either way), over
-    // blocks of shell_scale^3 cells, at most kMaxShellBlocks: a byte a cell would add 8 MB at a
-    // clinical comparison's peak of memory, which is this distance's. empty_cells() turns it into
-    // cells.
+    // blocks of 2^shell_shift cells a side, at most kMaxShellBlocks: a byte a cell would add 8 MB
+    // at a clinical comparison's peak of memory, which is this distance's. empty_cells() turns it
+    // into cells.
     std::vector<std::uint8_t> empty_shells;
-    int shell_scale = 1, shell_shift = 0; // a power of two and its log
+    int shell_shift = 0;
     glm::ivec3 shell_dims{1};
 
     // This grid's own number (no other grid of the process has it), for the per-thread caches
@@ -858,7 +858,8 @@ struct MeshDistance::Impl {
     int empty_cells(int x, int y, int z) const {
         const int blocks =
             empty_shells[block_index(x >> shell_shift, y >> shell_shift, z >> shell_shift)];
-        return blocks == 0 ? 0 : blocks * shell_scale - (shell_scale - 1);
+        const int scale = 1 << shell_shift;
+        return blocks == 0 ? 0 : blocks * scale - (scale - 1);
     }
     template <class Visit> void for_each_occupied_cell(glm::ivec3 home, int r, Visit&& visit) const;
     double squared_distance_to_cell(glm::dvec3 p, glm::ivec3 c) const;
@@ -1007,15 +1008,12 @@ void MeshDistance::Impl::choose_grid() {
                       int(cells_along(extent.z)));
     origin = lo;
     inverse_cell = 1.0 / cell;
-    shell_scale = 1;
     shell_shift = 0;
-    const auto blocks_along = [&](int n) { return (n + shell_scale - 1) / shell_scale; };
+    const auto blocks_along = [&](int n) { return ((n - 1) >> shell_shift) + 1; };
     while (std::size_t(blocks_along(dims.x)) * std::size_t(blocks_along(dims.y)) *
                std::size_t(blocks_along(dims.z)) >
-           kMaxShellBlocks) {
-        shell_scale *= 2;
+           kMaxShellBlocks)
         ++shell_shift;
-    }
     shell_dims = glm::ivec3(blocks_along(dims.x), blocks_along(dims.y), blocks_along(dims.z));
     const glm::dvec3 size = glm::max(glm::abs(lo), glm::abs(hi));
     coordinate_size = std::max({size.x, size.y, size.z});
