@@ -23,6 +23,11 @@
 #include <tuple>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#include <xmmintrin.h>
+#endif
+
 #include "cell_lists.h"
 #include "huge_pages.h"
 #include "parallel.h"
@@ -836,6 +841,9 @@ struct MeshDistance::Impl {
         const double reach = bound + double(sphere.radius());
         return glm::dot(to_centre, to_centre) < reach * reach;
     }
+    std::span<const std::uint32_t> spheres_in_reach(std::span<const std::uint32_t> items,
+                                                    glm::dvec3 p, double bound,
+                                                    std::vector<std::uint32_t>& kept) const;
     // A triangle as the exact test reads it: its corners in the measuring space and its plane.
     struct Measured {
         Corners corners;
@@ -1181,6 +1189,53 @@ double MeshDistance::Impl::squared_distance_to_triangle(glm::dvec3 p, const Corn
     return height * height / plane.n2;
 }
 
+// The sphere test of a cell's triangles, as a filter: in single precision, four spheres at a time
+// where SSE2 is there, without a branch (detail::keep_passing's way). On a clinical CT a query
+// reads about 24 triangles of its cell and keeps 4. The reach is widened by far more than the
+// float arithmetic can be off (1e-5 of the coordinates' size; float rounds to 6e-8 of it), so
+// every triangle that the double test passes is kept, in list order, with perhaps a few more that
+// the double test, made again on the few kept, rules out: the same distances.
+std::span<const std::uint32_t>
+MeshDistance::Impl::spheres_in_reach(std::span<const std::uint32_t> items, glm::dvec3 p,
+                                     double bound, std::vector<std::uint32_t>& kept) const {
+    if (kept.size() < items.size()) kept.resize(items.size());
+    const double size = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), coordinate_size});
+    const float widened = float(bound * (1.0 + 1e-5) + 1e-5 * (size + 1.0));
+    const glm::vec3 q(p);
+    std::size_t count = 0, i = 0;
+#if defined(__SSE2__)
+    const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
+    const __m128 base = _mm_set1_ps(widened);
+    const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    static_assert(sizeof(Sphere) == 4 * sizeof(float), "a sphere is read as four floats");
+    const auto sphere_at = [&](std::size_t k) {
+        return _mm_loadu_ps(reinterpret_cast<const float*>(&spheres[items[k]]));
+    };
+    for (; i + 4 <= items.size(); i += 4) {
+        // Each sphere is (x, y, z, signed radius): four of them turned into columns.
+        __m128 x = sphere_at(i), y = sphere_at(i + 1), z = sphere_at(i + 2), r = sphere_at(i + 3);
+        _MM_TRANSPOSE4_PS(x, y, z, r);
+        const __m128 dx = _mm_sub_ps(qx, x), dy = _mm_sub_ps(qy, y), dz = _mm_sub_ps(qz, z);
+        const __m128 d2 =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+        const __m128 reach = _mm_add_ps(base, _mm_and_ps(r, magnitude));
+        const int in = _mm_movemask_ps(_mm_cmplt_ps(d2, _mm_mul_ps(reach, reach)));
+        for (int k = 0; k < 4; ++k) {
+            kept[count] = items[i + std::size_t(k)];
+            count += std::size_t((in >> k) & 1);
+        }
+    }
+#endif
+    for (; i < items.size(); ++i) {
+        const Sphere& sphere = spheres[items[i]];
+        const glm::vec3 d = q - sphere.centre;
+        const float reach = widened + sphere.radius();
+        kept[count] = items[i];
+        count += glm::dot(d, d) < reach * reach ? 1 : 0;
+    }
+    return std::span<const std::uint32_t>(kept.data(), count);
+}
+
 // The triangles that pass a query's sphere test are mostly those of the query before (the next
 // sample point of the same triangle, the next vertex): each thread keeps the last ones it
 // measured, so that their corners are mapped and their planes worked out once for a run of
@@ -1252,22 +1307,30 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
     // Shells nearer than the distance transform says are empty are skipped.
     for (int r = empty_cells(home.x, home.y, home.z);; ++r) {
         candidates.clear();
-        for_each_occupied_cell(home, r, [&](glm::ivec3 c, std::size_t index) {
-            const double d = squared_distance_to_cell(p, c);
-            if (!beyond(d)) candidates.push_back({d, index});
-        });
-        // Nearest cells first, so that `best` shrinks early and prunes the rest.
-        std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
-            return x.squared_distance < y.squared_distance;
-        });
+        if (r == 0) {
+            // The home cell alone, where 94 % of the queries end on a clinical CT (the nets lie
+            // about 0.02 voxel from Marching Cubes' surface): no shell walk, no sort.
+            const std::size_t c = cell_index(home.x, home.y, home.z);
+            if (cell_triangles.occupied(c))
+                candidates.push_back({squared_distance_to_cell(p, home), c});
+        } else {
+            for_each_occupied_cell(home, r, [&](glm::ivec3 c, std::size_t index) {
+                const double d = squared_distance_to_cell(p, c);
+                if (!beyond(d)) candidates.push_back({d, index});
+            });
+            // Nearest cells first, so that `best` shrinks early and prunes the rest.
+            std::sort(candidates.begin(), candidates.end(),
+                      [](const Candidate& x, const Candidate& y) {
+                          return x.squared_distance < y.squared_distance;
+                      });
+        }
         for (const Candidate& candidate : candidates) {
             if (beyond(candidate.squared_distance)) break;
             // The sphere test of every triangle against the bound on entering the cell first
-            // (detail::keep_passing), then the few kept, tested again against the bound as it
+            // (spheres_in_reach), then the few kept, tested again against the bound as it
             // shrinks. A looser bound only lets more through: the least distance is the same.
-            const auto kept = detail::keep_passing(
-                cell_triangles.items(candidate.cell), near,
-                [&](std::uint32_t id) { return sphere_within(p, spheres[id], prune_root); });
+            const auto kept =
+                spheres_in_reach(cell_triangles.items(candidate.cell), p, prune_root, near);
             for (const std::uint32_t id : kept) {
                 if (id == started_from) continue;
                 const Sphere& sphere = spheres[id];

@@ -770,6 +770,46 @@ TEST(MeshDistance, SliversAndObtuseTrianglesMatchBruteForce) {
     }
 }
 
+// Degenerate (collinear) triangles, measured as their sides, listed in the same cells: their
+// spheres carry the flatness in the radius's sign, which the grid's sphere test must ignore (it
+// reads a cell's spheres four at a time). Bundles of parallel needles 0.08 apart above a sheet;
+// each query lies just off the end of one needle and follows a query at the needle beside it, so
+// it starts from a triangle 0.08 away while its own needle's sphere centre is 0.27 away.
+TEST(MeshDistance, FlatTrianglesAmongOthersMatchBruteForce) {
+    constexpr int kSide = 8;
+    Mesh m;
+    for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x)
+            m.positions.push_back({float(x), float(y), 0.1f * float((x * 7 + y * 3) % 5)});
+    for (std::uint32_t y = 0; y + 1 < kSide; ++y)
+        for (std::uint32_t x = 0; x + 1 < kSide; ++x) {
+            const std::uint32_t a = y * kSide + x, b = a + 1, c = a + kSide, d = c + 1;
+            m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+        }
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> across(0.5f, float(kSide) - 1.5f), turn(0.0f, 6.28f);
+    std::vector<glm::vec3> points;
+    for (int bundle = 0; bundle < 20; ++bundle) {
+        const glm::vec3 start(across(random), across(random), 0.6f);
+        const float angle = turn(random);
+        const glm::vec3 step(0.3f * std::cos(angle), 0.3f * std::sin(angle), 0.0f);
+        const glm::vec3 apart(-0.08f * std::sin(angle), 0.08f * std::cos(angle), 0.0f);
+        for (int k = 0; k < 6; ++k) {
+            // The middle corner on the line between the other two.
+            const glm::vec3 a = start + float(k) * apart;
+            const std::uint32_t first = std::uint32_t(m.positions.size());
+            m.positions.insert(m.positions.end(), {a, a + step, a + 2.0f * step});
+            m.indices.insert(m.indices.end(), {first, first + 2, first + 1});
+            points.push_back(a + 1.9f * step + glm::vec3(0.0f, 0.0f, 0.02f));
+        }
+    }
+    const MeshDistance d(m);
+    for (const glm::vec3& p : points) {
+        const double expected = brute_force_distance(m, p);
+        ASSERT_NEAR(d(p), expected, 1e-6) << p.x << ' ' << p.y << ' ' << p.z;
+    }
+}
+
 // Two small triangles 2000 edges apart: a query half-way lies more than 255 cells from either,
 // where the distance transform saturates. The answer is still exact.
 TEST(MeshDistance, FarBeyondTheShellCountItSkips) {
