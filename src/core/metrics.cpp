@@ -1307,46 +1307,42 @@ float MeshDistance::Impl::distance(glm::vec3 point) const {
     // Shells nearer than the distance transform says are empty are skipped.
     for (int r = empty_cells(home.x, home.y, home.z);; ++r) {
         candidates.clear();
+        // A cell of shell r is read when it holds triangles and its box is within reach.
+        const auto consider = [&](glm::ivec3 c, std::size_t index) {
+            const double d = squared_distance_to_cell(p, c);
+            if (!beyond(d)) candidates.push_back({d, index});
+        };
         if (r == 0) {
             // The home cell alone, where 94 % of the queries end on a clinical CT (the nets lie
             // about 0.02 voxel from Marching Cubes' surface): no shell walk, no sort.
             const std::size_t c = cell_index(home.x, home.y, home.z);
-            if (cell_triangles.occupied(c))
-                candidates.push_back({squared_distance_to_cell(p, home), c});
-        } else if (r == 1) {
-            // Shell 1 of a query its home cell did not settle (6 % on the CT): of the 26 cells
-            // only those across the faces within reach. A face's distance alone is at most the
-            // distance to a cell across it (the same arithmetic, a sum of squares), so no cell
-            // that the shell's walk would take is left out.
-            glm::ivec3 from(0), to(0);
-            for (int k = 0; k < 3; ++k) {
-                const auto face_beyond = [&](int c) {
-                    const double lo = origin[k] + double(c) * cell;
-                    const double d = std::max(std::max(lo - p[k], p[k] - (lo + cell)), 0.0);
-                    return beyond(d * d);
-                };
-                if (home[k] > 0 && !face_beyond(home[k] - 1)) from[k] = -1;
-                if (home[k] < dims[k] - 1 && !face_beyond(home[k] + 1)) to[k] = 1;
-            }
-            for (int dz = from.z; dz <= to.z; ++dz)
-                for (int dy = from.y; dy <= to.y; ++dy)
-                    for (int dx = from.x; dx <= to.x; ++dx) {
-                        if (dx == 0 && dy == 0 && dz == 0) continue;
-                        const glm::ivec3 c = home + glm::ivec3(dx, dy, dz);
-                        const std::size_t index = cell_index(c.x, c.y, c.z);
-                        if (!cell_triangles.occupied(index)) continue;
-                        const double d = squared_distance_to_cell(p, c);
-                        if (!beyond(d)) candidates.push_back({d, index});
-                    }
-            std::sort(candidates.begin(), candidates.end(),
-                      [](const Candidate& x, const Candidate& y) {
-                          return x.squared_distance < y.squared_distance;
-                      });
+            if (cell_triangles.occupied(c)) consider(home, c);
         } else {
-            for_each_occupied_cell(home, r, [&](glm::ivec3 c, std::size_t index) {
-                const double d = squared_distance_to_cell(p, c);
-                if (!beyond(d)) candidates.push_back({d, index});
-            });
+            if (r == 1) {
+                // Shell 1 of a query its home cell did not settle (6 % on the CT): of the 26
+                // cells only those across the faces within reach. A face's distance alone is at
+                // most the distance to a cell across it (the same arithmetic, a sum of squares),
+                // so no cell that the shell's walk would take is left out.
+                glm::ivec3 from(0), to(0);
+                for (int k = 0; k < 3; ++k) {
+                    const auto face_beyond = [&](int c) {
+                        const double lo = origin[k] + double(c) * cell;
+                        const double d = std::max(std::max(lo - p[k], p[k] - (lo + cell)), 0.0);
+                        return beyond(d * d);
+                    };
+                    if (home[k] > 0 && !face_beyond(home[k] - 1)) from[k] = -1;
+                    if (home[k] < dims[k] - 1 && !face_beyond(home[k] + 1)) to[k] = 1;
+                }
+                for (int dz = from.z; dz <= to.z; ++dz)
+                    for (int dy = from.y; dy <= to.y; ++dy)
+                        for (int dx = from.x; dx <= to.x; ++dx) {
+                            const glm::ivec3 c = home + glm::ivec3(dx, dy, dz);
+                            const std::size_t index = cell_index(c.x, c.y, c.z);
+                            if (c != home && cell_triangles.occupied(index)) consider(c, index);
+                        }
+            } else {
+                for_each_occupied_cell(home, r, consider);
+            }
             // Nearest cells first, so that `best` shrinks early and prunes the rest.
             std::sort(candidates.begin(), candidates.end(),
                       [](const Candidate& x, const Candidate& y) {
