@@ -154,20 +154,4 @@ class CellLists {
     std::vector<std::uint32_t> items_;
 };
 
-// The items of a cell's list that pass `test`, kept in `kept` (reused storage) in list order and
-// returned as a span of it. Without a branch: the grids' cheap tests (a sphere, a box) pass a
-// few items in five or six, at random, and the mispredicted branches cost more than the tests;
-// the callers then run their dearer tests on the few kept.
-template <class Test>
-std::span<const std::uint32_t> keep_passing(std::span<const std::uint32_t> items,
-                                            std::vector<std::uint32_t>& kept, Test&& test) {
-    if (kept.size() < items.size()) kept.resize(items.size());
-    std::size_t count = 0;
-    for (const std::uint32_t item : items) {
-        kept[count] = item;
-        count += test(item) ? 1 : 0;
-    }
-    return std::span<const std::uint32_t>(kept.data(), count);
-}
-
 } // namespace snert::detail
