@@ -798,13 +798,14 @@ double App::frame_interval() const {
     const bool frame_due =
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
     if (views_->has_pending_work() || views_->picture_waiting()) return kSendingFrame;
-    if (worker_->has_messages() || playing_ || frame_due || !requested_once_ ||
+    if (worker_->has_results() || playing_ || frame_due || !requested_once_ ||
         results_.generation != worker_->latest_generation() || notice_timer_ > 0 ||
         screenshot_pending_)
         return kAnimatingFrame;
     // A view waiting to draw its whole mesh notices the wait is over at the next frame; a view
-    // drawing its parts draws them between frames (draw_part_between_frames).
-    if (worker_->busy() || views_->needs_refine()) return kProgressFrame;
+    // drawing its parts draws them between frames (draw_part_between_frames); an iteration's
+    // numbers (messages that are no results) wait for the next of these frames.
+    if (worker_->busy() || views_->needs_refine() || worker_->has_messages()) return kProgressFrame;
     return kIdleFrame;
 }
 

@@ -237,13 +237,14 @@ class App {
     bool animating() const;
     // How long the glue may wait for an event before it draws the next frame, in seconds:
     // kAnimatingFrame while something moves on screen, kProgressFrame while only the worker's
-    // progress bar does (its results wake the loop through AppOptions::wake), kIdleFrame
+    // progress bar and iteration numbers do (its results wake the loop through
+    // AppOptions::wake), kIdleFrame
     // otherwise. Software GL draws the window with the processor the worker computes with.
     // While a view's new buffers are sent (a part a frame) or wait to be drawn
     // (ViewRenderer::has_pending_work), kSendingFrame: the frames follow one another, and the new
     // mesh is shown a few frames' work later; so too once a view's whole mesh was finished
     // between frames (draw_part_between_frames), to show it.
-    static constexpr double kAnimatingFrame = 1.0 / 15, kProgressFrame = 1.0 / 5, kIdleFrame = 0.5;
+    static constexpr double kAnimatingFrame = 1.0 / 15, kProgressFrame = 1.0 / 3, kIdleFrame = 0.5;
     static constexpr double kSendingFrame = 0.0;
     double frame_interval() const;
     // The next part of a view's whole mesh (ViewRenderer::draw_part_between_frames), for the

@@ -261,6 +261,12 @@ bool Worker::has_messages() const {
     return !outbox_.empty();
 }
 
+bool Worker::has_results() const {
+    std::lock_guard lock(mutex_);
+    return std::any_of(outbox_.begin(), outbox_.end(),
+                       [](const Message& m) { return wakes_the_window(m.payload); });
+}
+
 bool Worker::busy() const {
     {
         std::lock_guard lock(mutex_);
@@ -331,7 +337,12 @@ void Worker::measure_loop(std::stop_token thread_stop) {
     }
 }
 
+bool wakes_the_window(const Payload& payload) {
+    return !std::holds_alternative<IterationMessage>(payload);
+}
+
 void Worker::post(std::uint64_t generation, Payload payload) {
+    const bool wake = wakes_the_window(payload);
     {
         std::lock_guard lock(mutex_);
         bool replaced = false;
@@ -348,7 +359,7 @@ void Worker::post(std::uint64_t generation, Payload payload) {
         }
         if (!replaced) outbox_.push_back({generation, std::move(payload)});
     }
-    if (options_.on_message) options_.on_message();
+    if (wake && options_.on_message) options_.on_message();
 }
 
 void Worker::set_stage(std::uint64_t generation, Stage stage) {

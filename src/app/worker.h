@@ -192,6 +192,12 @@ struct Message {
     Payload payload;
 };
 
+// Whether a message is a result the window shows at once (a mesh, metrics, the end of a job),
+// not an iteration's numbers: those come about ten a second during a relaxation on a clinical
+// CT, and a frame for each would take the processor from the relaxation for a counter and a
+// plot that the next of the window's progress frames shows anyway.
+bool wakes_the_window(const Payload& payload);
+
 struct WorkerOptions {
     std::size_t history_budget_bytes = std::size_t(256) << 20; // stored positions (see history)
     // The worker's threads give way to the window's (a lower priority): for a window drawn by
@@ -202,9 +208,9 @@ struct WorkerOptions {
     // next one live_frame_spacing * m later at the earliest: frames take at most about
     // 1 / (1 + spacing) of the worker's time (worker.cpp says why).
     double live_frame_spacing = 4.0;
-    // Called, on the thread that posts, once a message can be drained: a window that draws
-    // only a few frames a second while the worker computes wakes at once for its results.
-    // It must be safe to call from any thread.
+    // Called, on the thread that posts, once a result can be drained (wakes_the_window): a
+    // window that draws only a few frames a second while the worker computes wakes at once for
+    // its results. It must be safe to call from any thread.
     std::function<void()> on_message;
 };
 
@@ -240,6 +246,8 @@ class Worker {
     std::uint64_t latest_generation() const;
     // True when drain() would return something.
     bool has_messages() const;
+    // True when drain() would return a result that wakes the window (wakes_the_window).
+    bool has_results() const;
     // True while a job or a frame request is being worked on or waiting.
     bool busy() const;
     // Jobs actually started / finished (not counting skipped ones); for tests and the status bar.

@@ -184,29 +184,37 @@ TEST(Worker, OneJobGivesThePipelinesResult) {
     EXPECT_FALSE(worker.busy());
 }
 
-// The window sleeps between its few frames while the worker computes: every message posted
-// calls on_message, after it can be drained, so the results wake the window at once.
-TEST(Worker, EveryMessageCallsOnMessage) {
+// The window sleeps between its few frames while the worker computes: every result posted calls
+// on_message, after it can be drained, so the results wake the window at once. An iteration's
+// numbers do not: the window's next progress frame takes them.
+TEST(Worker, EveryResultCallsOnMessage) {
     std::atomic<int> calls{0};
     WorkerOptions options;
     options.on_message = [&] { ++calls; };
     Worker worker(options);
     JobResults r;
     r.start(worker.request(phantom_job("sphere", 24, std::nullopt, 6)));
-    int drained = 0;
+    int results = 0, numbers = 0;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     while (!finished(r) && std::chrono::steady_clock::now() < deadline) {
-        const std::vector<Message> messages = worker.drain();
-        drained += int(messages.size());
-        for (const Message& m : messages) r.apply(m);
+        for (const Message& m : worker.drain()) {
+            const bool result = wakes_the_window(m.payload);
+            EXPECT_EQ(result, !std::holds_alternative<IterationMessage>(m.payload));
+            (result ? results : numbers) += 1;
+            r.apply(m);
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     ASSERT_TRUE(finished(r));
-    EXPECT_GT(drained, 0);
+    EXPECT_GT(results, 0);
+    EXPECT_GE(numbers, 2 * 7); // iterations 0-6 announced, then measured
     // The call follows the message's posting by a moment: wait for the last one.
-    for (int k = 0; k < 1000 && calls.load() < drained; ++k)
+    for (int k = 0; k < 1000 && calls.load() < results; ++k)
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    EXPECT_GE(calls.load(), drained); // a frame replacing one not yet drained calls it too
+    EXPECT_GE(calls.load(), results); // a frame replacing one not yet drained calls it too
+    // Had the numbers called it too, there would be a call for every message drained.
+    EXPECT_LT(calls.load(), results + numbers);
+    EXPECT_FALSE(worker.has_results());
 }
 
 // Hundreds of parameter changes, some mid-job, some while draining: no deadlock, and what the
