@@ -206,8 +206,9 @@ struct WorkerOptions {
     bool give_way_to_the_ui = false;
     // While the views follow the relaxation, a frame that took m to make is followed by the
     // next one live_frame_spacing * m later at the earliest: frames take at most about
-    // 1 / (1 + spacing) of the worker's time (worker.cpp says why).
-    double live_frame_spacing = 4.0;
+    // 1 / (1 + spacing) of the worker's time, and the window's drawing of each (a clinical
+    // mesh in parts, software GL) about as much again (worker.cpp says why).
+    double live_frame_spacing = 8.0;
     // Called, on the thread that posts, once a result can be drained (wakes_the_window): a
     // window that draws only a few frames a second while the worker computes wakes at once for
     // its results. It must be safe to call from any thread.
