@@ -75,15 +75,27 @@ inline void map_pages_for_writing(void* begin, std::size_t bytes) {
 #endif
 }
 
-// Sizes the empty vector `v` to n copies of `value`, its storage advised to use huge pages and
-// mapped in one call first.
-template <class T>
-void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
+// Reserves room for n values in the empty vector `v` as reserve_on_huge_pages, the pages mapped in
+// one call when there are enough of them.
+template <class T> void reserve_mapped_on_huge_pages(std::vector<T>& v, std::size_t n) {
     reserve_on_huge_pages(v, n);
     constexpr std::size_t kWorthACall = std::size_t(1) << 18;
     if (n * sizeof(T) >= kWorthACall)
         map_pages_for_writing(static_cast<void*>(v.data()), n * sizeof(T));
+}
+
+// Sizes the empty vector `v` to n copies of `value`, its storage advised to use huge pages and
+// mapped in one call first.
+template <class T>
+void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()) {
+    reserve_mapped_on_huge_pages(v, n);
     v.resize(n, value);
+}
+
+// Makes the empty vector `to` a copy of `from`, in storage on huge pages mapped in one call first.
+template <class T> void copy_on_huge_pages(std::vector<T>& to, const std::vector<T>& from) {
+    reserve_mapped_on_huge_pages(to, from.size());
+    to.assign(from.begin(), from.end());
 }
 
 // Makes `v` hold n copies of `value`: in its own storage when that has room (pages already

@@ -643,6 +643,23 @@ TEST(Worker, AskedFrameComesQuickThenMeasured) {
     EXPECT_EQ(measured->geometry, quick->geometry);
     EXPECT_EQ(r.frame, measured); // it replaced the quick one it belongs to
     EXPECT_EQ(measured->metrics.quality.mean, r.iterations[2].quality_mean);
+    // Everything but the metrics is the quick frame's, copied.
+    EXPECT_NE(measured->mesh.positions.data(), quick->mesh.positions.data());
+    EXPECT_TRUE(same_mesh(measured->mesh, quick->mesh));
+    EXPECT_EQ(measured->shapes.quality, quick->shapes.quality);
+    EXPECT_EQ(measured->shapes.quality60, quick->shapes.quality60);
+    EXPECT_EQ(measured->shapes.radius_ratio, quick->shapes.radius_ratio);
+    EXPECT_EQ(measured->shapes.min_angle, quick->shapes.min_angle);
+    EXPECT_EQ(measured->shapes.max_angle, quick->shapes.max_angle);
+    EXPECT_EQ(measured->normals, quick->normals);
+    EXPECT_EQ(measured->method, quick->method);
+    EXPECT_EQ(measured->iteration, quick->iteration);
+    EXPECT_EQ(measured->last, quick->last);
+    EXPECT_EQ(measured->preview, quick->preview);
+    EXPECT_EQ(measured->changed_since, quick->changed_since);
+    EXPECT_EQ(measured->changed_runs.size(), quick->changed_runs.size());
+    for (std::size_t k = 0; k < quick->summaries.size(); ++k)
+        EXPECT_EQ(measured->summaries[k].mean, quick->summaries[k].mean);
     // A measured frame of another geometry does not replace the one shown.
     auto other = std::make_shared<DisplayMesh>(*measured);
     other->geometry = measured->geometry + 1000;
