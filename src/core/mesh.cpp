@@ -5,6 +5,7 @@
 #include <cstring>
 #include <utility>
 
+#include "huge_pages.h"
 #include "volume.h"
 
 namespace snert {
@@ -44,7 +45,11 @@ bool same_mesh(const Mesh& a, const Mesh& b) {
 }
 
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {
-    Mesh out = mesh;
+    // In fresh storage on huge pages: a clinical mesh's 15 MB, faulted 4 KiB at a time, cost the
+    // app tens of milliseconds before it could show Marching Cubes.
+    Mesh out;
+    detail::copy_on_huge_pages(out.positions, mesh.positions);
+    detail::copy_on_huge_pages(out.indices, mesh.indices);
     place_in_world(out, volume);
     return out;
 }
