@@ -238,8 +238,8 @@ class App {
     // How long the glue may wait for an event before it draws the next frame, in seconds:
     // kAnimatingFrame while something moves on screen, kProgressFrame while only the worker's
     // progress bar and iteration numbers do (its results wake the loop through
-    // AppOptions::wake), kIdleFrame
-    // otherwise. Software GL draws the window with the processor the worker computes with.
+    // AppOptions::wake), kIdleFrame otherwise. Software GL draws the window with the processor
+    // the worker computes with.
     // While a view's new buffers are sent (a part a frame) or wait to be drawn
     // (ViewRenderer::has_pending_work), kSendingFrame: the frames follow one another, and the new
     // mesh is shown a few frames' work later; so too once a view's whole mesh was finished

@@ -12,18 +12,6 @@
 
 namespace snert::app {
 
-namespace {
-
-// A frame's positions copied into fresh storage on huge pages: 5 MB for a clinical net, which
-// faulted 4 KiB at a time took up to 28 ms of the worker for each frame it made.
-std::vector<glm::vec3> copy_of(const std::vector<glm::vec3>& positions) {
-    std::vector<glm::vec3> copy;
-    detail::copy_on_huge_pages(copy, positions);
-    return copy;
-}
-
-} // namespace
-
 IterationHistory::IterationHistory(std::shared_ptr<const RelaxContext> context,
                                    std::size_t budget_bytes)
     : context_(std::move(context)), budget_bytes_(budget_bytes), latest_(context_->net->positions) {
@@ -45,7 +33,7 @@ void IterationHistory::append(std::span<const glm::vec3> positions) {
     ++latest_iteration_;
     latest_.assign(positions.begin(), positions.end());
     if (latest_iteration_ % stride_ == 0) {
-        frames_.emplace(latest_iteration_, copy_of(latest_));
+        frames_.emplace(latest_iteration_, detail::copy_on_huge_pages(latest_));
         stored_bytes_ += frame_bytes();
         thin_out();
     }
@@ -76,9 +64,12 @@ std::vector<glm::vec3> IterationHistory::positions(int k, const std::stop_token&
         throw std::out_of_range("iteration " + std::to_string(k) + " not in [0, " +
                                 std::to_string(latest_iteration_) + "]");
     last_recomputed_steps_ = 0;
-    if (k == 0) return copy_of(context_->net->positions);
-    if (k == latest_iteration_) return copy_of(latest_);
-    if (const auto it = frames_.find(k); it != frames_.end()) return copy_of(it->second);
+    // Copies on huge pages: 5 MB for a clinical net, which faulted 4 KiB at a time took up to
+    // 28 ms of the worker for each frame it made.
+    using detail::copy_on_huge_pages;
+    if (k == 0) return copy_on_huge_pages(context_->net->positions);
+    if (k == latest_iteration_) return copy_on_huge_pages(latest_);
+    if (const auto it = frames_.find(k); it != frames_.end()) return copy_on_huge_pages(it->second);
 
     // The nearest start at or below k: a keyframe, the scratch frame, or the initial net.
     int start = 0;
@@ -88,7 +79,7 @@ std::vector<glm::vec3> IterationHistory::positions(int k, const std::stop_token&
         start = it->first;
         from = &it->second;
     }
-    if (scratch_iteration_ == k) return copy_of(scratch_);
+    if (scratch_iteration_ == k) return copy_on_huge_pages(scratch_);
     if (scratch_iteration_ > start && scratch_iteration_ < k) {
         start = scratch_iteration_;
         from = &scratch_;

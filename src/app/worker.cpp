@@ -62,32 +62,6 @@ std::shared_ptr<const DisplayMesh> display_mesh(MethodResult result, std::uint64
     return display;
 }
 
-// A quick frame's copy, to be measured: the large arrays (mesh, shape measures, normals: 37 MB
-// for a clinical mesh) in fresh storage on huge pages, where the struct's own copy faulted them
-// 4 KiB at a time (98 ms on the worker for the CT's Marching Cubes, before its metrics).
-std::shared_ptr<DisplayMesh> copy_of(const DisplayMesh& from) {
-    auto copy = std::make_shared<DisplayMesh>();
-    DisplayMesh& to = *copy;
-    detail::copy_on_huge_pages(to.mesh.positions, from.mesh.positions);
-    detail::copy_on_huge_pages(to.mesh.indices, from.mesh.indices);
-    for (auto member :
-         {&TriangleMeasures::quality, &TriangleMeasures::quality60, &TriangleMeasures::radius_ratio,
-          &TriangleMeasures::min_angle, &TriangleMeasures::max_angle})
-        detail::copy_on_huge_pages(to.shapes.*member, from.shapes.*member);
-    detail::copy_on_huge_pages(to.normals, from.normals);
-    to.method = from.method;
-    to.iteration = from.iteration;
-    to.summaries = from.summaries;
-    to.metrics = from.metrics;
-    to.metrics_complete = from.metrics_complete;
-    to.last = from.last;
-    to.preview = from.preview;
-    to.geometry = from.geometry;
-    to.changed_since = from.changed_since;
-    to.changed_runs = from.changed_runs;
-    return copy;
-}
-
 // The views most likely hold the frame sent before this one (they take each before the next
 // goes): what differs from it, found here rather than on the UI thread (10 ms there for a skin
 // surface of 3.5 M triangles).
@@ -779,7 +753,7 @@ void Worker::serve_view(Job& job, std::stop_token stop, bool final_frame) {
                      const RelaxContext& c = *context;
                      Mesh mesh =
                          triangulate(*c.net, positions, c.options.triangulation, c.volume->spacing);
-                     auto measured = copy_of(*frame);
+                     auto measured = frame->copy();
                      measured->metrics = measure_into_world(mesh, *c.volume, reference, what);
                      measured->metrics_complete = true;
                      return FrameMetricsMessage{measured};
@@ -799,6 +773,22 @@ std::span<const float> DisplayMesh::values(ShapeMeasure measure) const {
 const MeasureSummary& DisplayMesh::summary(ShapeMeasure measure) const {
     static const MeasureSummary none;
     return is_distance(measure) ? none : summaries[std::size_t(measure)];
+}
+
+// The large arrays (mesh, shape measures, normals: 37 MB for a clinical mesh) in fresh storage on
+// huge pages, where the struct's own copy faulted them 4 KiB at a time: 98 ms of the worker for
+// the CT's Marching Cubes, before its metrics.
+std::shared_ptr<DisplayMesh> DisplayMesh::copy() const {
+    using detail::copy_on_huge_pages;
+    const TriangleMeasures& s = shapes;
+    return std::make_shared<DisplayMesh>(DisplayMesh{
+        method, iteration,
+        Mesh{copy_on_huge_pages(mesh.positions), copy_on_huge_pages(mesh.indices)},
+        TriangleMeasures{copy_on_huge_pages(s.quality), copy_on_huge_pages(s.quality60),
+                         copy_on_huge_pages(s.radius_ratio), copy_on_huge_pages(s.min_angle),
+                         copy_on_huge_pages(s.max_angle)},
+        summaries, copy_on_huge_pages(normals), metrics, metrics_complete, last, preview, geometry,
+        changed_since, changed_runs});
 }
 
 void DisplayMesh::measure_triangles() {
@@ -826,7 +816,7 @@ std::shared_ptr<const DisplayMesh> Worker::make_marching_cubes(const Job& job, c
     quick->metrics_complete = false;
     post(job.generation, MarchingCubesMessage{quick});
     throw_if_stopped(stop);
-    auto measured = copy_of(*quick);
+    auto measured = quick->copy();
     measured->metrics = measure_into_world(index_mesh, volume, job.reference, job.options.measure);
     measured->metrics.ms = ms;
     measured->metrics_complete = true;

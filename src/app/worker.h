@@ -122,6 +122,9 @@ struct DisplayMesh {
     const MeasureSummary& summary(ShapeMeasure measure) const;
     // Fills shapes and summaries from the mesh (the worker's job).
     void measure_triangles();
+    // A copy of every member (a new member goes there too), the large arrays in fresh storage on
+    // huge pages: a quick frame's measured version.
+    std::shared_ptr<DisplayMesh> copy() const;
 };
 
 struct VolumeMessage {

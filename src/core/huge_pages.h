@@ -92,10 +92,12 @@ void resize_on_huge_pages(std::vector<T>& v, std::size_t n, const T& value = T()
     v.resize(n, value);
 }
 
-// Makes the empty vector `to` a copy of `from`, in storage on huge pages mapped in one call first.
-template <class T> void copy_on_huge_pages(std::vector<T>& to, const std::vector<T>& from) {
+// A copy of `from` in fresh storage on huge pages, mapped in one call first.
+template <class T> std::vector<T> copy_on_huge_pages(const std::vector<T>& from) {
+    std::vector<T> to;
     reserve_mapped_on_huge_pages(to, from.size());
     to.assign(from.begin(), from.end());
+    return to;
 }
 
 // Makes `v` hold n copies of `value`: in its own storage when that has room (pages already

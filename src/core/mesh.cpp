@@ -47,9 +47,7 @@ bool same_mesh(const Mesh& a, const Mesh& b) {
 Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {
     // In fresh storage on huge pages: a clinical mesh's 15 MB, faulted 4 KiB at a time, cost the
     // app tens of milliseconds before it could show Marching Cubes.
-    Mesh out;
-    detail::copy_on_huge_pages(out.positions, mesh.positions);
-    detail::copy_on_huge_pages(out.indices, mesh.indices);
+    Mesh out{detail::copy_on_huge_pages(mesh.positions), detail::copy_on_huge_pages(mesh.indices)};
     place_in_world(out, volume);
     return out;
 }
