@@ -100,6 +100,7 @@ App::App(AppOptions options)
     worker_options.on_message = options_.wake;
     worker_ = std::make_unique<Worker>(worker_options);
     views_ = std::make_unique<ViewRenderer>();
+    views_->set_parts_between_frames(options_.parts_between_frames);
 }
 
 App::~App() = default;
@@ -797,6 +798,8 @@ bool App::animating() const {
 double App::frame_interval() const {
     const bool frame_due =
         !following_ && (!results_.frame || results_.frame->iteration != pinned_iteration_);
+    // A view's buffers go between frames (draw_part_between_frames), part after part.
+    if (views_->sending()) return kAnimatingFrame;
     if (views_->has_pending_work() || views_->picture_waiting()) return kSendingFrame;
     if (worker_->has_results() || playing_ || frame_due || !requested_once_ ||
         results_.generation != worker_->latest_generation() || notice_timer_ > 0 ||
@@ -811,6 +814,10 @@ double App::frame_interval() const {
 
 bool App::draw_part_between_frames() {
     return views_->draw_part_between_frames();
+}
+
+bool App::sending_views() const {
+    return views_->sending();
 }
 
 int App::view_render_count() const {

@@ -75,7 +75,10 @@ struct AppOptions {
     bool show_timings = true;       // false: no wall-clock times on screen (snapshot tests)
     float content_scale = 1.0f;     // the monitor's scale (HiDPI): multiplies the text size
     bool background_worker = false; // the worker gives way to the window (WorkerOptions)
-    std::function<void()> wake;     // WorkerOptions::on_message: wakes the glue's loop
+    // The glue sends the views' mesh buffers between frames (draw_part_between_frames), where
+    // the views' render otherwise sends a part a frame.
+    bool parts_between_frames = false;
+    std::function<void()> wake; // WorkerOptions::on_message: wakes the glue's loop
 };
 
 // The Open panel's fields that are not applied until Open is pressed (the label and the DICOM
@@ -240,16 +243,21 @@ class App {
     // progress bar and iteration numbers do (its results wake the loop through
     // AppOptions::wake), kIdleFrame otherwise. Software GL draws the window with the processor
     // the worker computes with.
-    // While a view's new buffers are sent (a part a frame) or wait to be drawn
-    // (ViewRenderer::has_pending_work), kSendingFrame: the frames follow one another, and the new
-    // mesh is shown a few frames' work later; so too once a view's whole mesh was finished
-    // between frames (draw_part_between_frames), to show it.
+    // While a view's new buffers or its update are sent, a part at a time between frames
+    // (draw_part_between_frames), kAnimatingFrame. While a view's sent mesh waits to be drawn
+    // (ViewRenderer::has_pending_work), kSendingFrame: the frames follow one another, and the
+    // new mesh is shown a frame's work later; so too once a view's whole mesh was finished
+    // between frames, to show it.
     static constexpr double kAnimatingFrame = 1.0 / 15, kProgressFrame = 1.0 / 3, kIdleFrame = 0.5;
     static constexpr double kSendingFrame = 0.0;
     double frame_interval() const;
-    // The next part of a view's whole mesh (ViewRenderer::draw_part_between_frames), for the
-    // glue to draw while it waits for the next frame; false when no view is drawing parts.
+    // The next part of a view's buffers to send, else of a view's whole mesh to draw
+    // (ViewRenderer::draw_part_between_frames), for the glue to do while it waits for the next
+    // frame; false when there is none.
     bool draw_part_between_frames();
+    // Parts of a view's buffers are being sent: the glue sends them one after another (each a
+    // few milliseconds), where it spaces the parts of a drawing while the worker computes.
+    bool sending_views() const;
     // The rectangle a named widget had in the last frame ("step_forward", "step_back",
     // "play", "iteration_slider", "run_to_convergence", "views", "iso_slider", ...).
     std::optional<UiRect> widget_rect(const std::string& id) const;

@@ -47,17 +47,31 @@ void ViewRenderer::set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh) {
     const std::shared_ptr<const DisplayMesh> previous = std::exchange(slot, std::move(mesh));
     if (same_geometry) return;
     dirty_[v] = true;
-    // Until its last part is sent, the GPU does not hold the previous mesh.
-    const bool uploading = next_part_[v] != kNoUpload;
+    // Until its last part is sent, the GPU does not hold the previous mesh's indices. A mesh
+    // whose update was still being sent has its indices there (they go first): its positions,
+    // normals and quality, the rest of an update, are sent again whole anyway.
+    const bool uploading = next_part_[v] != kNoUpload && !updating_[v];
     next_part_[v] = kNoUpload;
+    updating_[v] = false;
     if (!slot) {
         views_[v] = render::MeshView();
-    } else if (uploading || !previous ||
-               !views_[v].update(slot->mesh, changed_runs(*slot, *previous), values(view),
-                                 slot->normals)) {
+        upload_preview(v);
+        return;
+    }
+    const bool staged = slot->mesh.triangle_count() > kStagedUploadTriangles;
+    if (!uploading && previous && views_[v].can_update(slot->mesh)) {
+        const std::vector<render::IndexRun> runs = changed_runs(*slot, *previous);
+        if (staged) { // the rest sent by the next render()s or between frames, one part each
+            views_[v].begin_update(slot->mesh, runs);
+            next_part_[v] = 0;
+            updating_[v] = true;
+            return;
+        }
+        views_[v].update(slot->mesh, runs, values(view), slot->normals);
+    } else {
         previews_[v] = nullptr; // new buffers hold no preview
-        if (slot->mesh.triangle_count() > kStagedUploadTriangles) {
-            next_part_[v] = 0; // sent by the next render()s, one part each
+        if (staged) {
+            next_part_[v] = 0;
             return;
         }
         views_[v].upload(slot->mesh, values(view), slot->normals);
@@ -81,8 +95,16 @@ std::span<const float> ViewRenderer::values(int view) const {
 
 void ViewRenderer::upload_values(std::size_t v) {
     const auto& mesh = meshes_[v];
-    // A mesh still being sent takes the values shown when its quality goes (the last part).
-    if (!mesh || next_part_[v] != kNoUpload) return;
+    if (!mesh) return;
+    if (next_part_[v] != kNoUpload) {
+        // A mesh still being sent takes the values shown when its quality goes (its last
+        // parts): begun already, they go again.
+        const int parts = updating_[v] ? render::MeshView::update_parts(mesh->mesh)
+                                       : render::MeshView::upload_parts(mesh->mesh);
+        next_part_[v] =
+            std::min(next_part_[v], parts - render::MeshView::quality_parts(mesh->mesh));
+        return;
+    }
     // The same mesh: only the per-triangle values change (no index is sent).
     if (!views_[v].update(mesh->mesh, {}, values(int(v)), mesh->normals)) {
         views_[v].upload(mesh->mesh, values(int(v)), mesh->normals);
@@ -168,19 +190,26 @@ void ViewRenderer::warm_up(int width, int height) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-// One part of a large mesh's new buffers: that is the render's work. The view is drawn by the
-// render after its last part.
+// One part of a large mesh's new buffers or of its update: that is the render's work, or the
+// window's between frames. The view is drawn by the render after its last part.
 bool ViewRenderer::send_next_part() {
     for (std::size_t v = 0; v < kViews; ++v) {
         if (next_part_[v] == kNoUpload) continue;
         const DisplayMesh& mesh = *meshes_[v];
-        const int part = next_part_[v]++, parts = render::MeshView::upload_parts(mesh.mesh);
+        const int part = next_part_[v]++;
+        const int parts = updating_[v] ? render::MeshView::update_parts(mesh.mesh)
+                                       : render::MeshView::upload_parts(mesh.mesh);
         // The quality goes last: the values shown then.
-        views_[v].upload_part(part, mesh.mesh,
-                              part == parts - 1 ? values(int(v)) : std::span<const float>(),
-                              mesh.normals);
+        const std::span<const float> quality =
+            part >= parts - render::MeshView::quality_parts(mesh.mesh) ? values(int(v))
+                                                                       : std::span<const float>();
+        if (updating_[v])
+            views_[v].update_part(part, mesh.mesh, quality, mesh.normals);
+        else
+            views_[v].upload_part(part, mesh.mesh, quality, mesh.normals);
         if (next_part_[v] == parts) {
             next_part_[v] = kNoUpload;
+            updating_[v] = false;
             upload_preview(v);
         }
         return true;
@@ -192,8 +221,8 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
                           const render::DrawStyle& style) {
     picture_waiting_ = false; // this frame shows it
     // Once the views have pictures (their targets are made): until then a part would leave them
-    // without one.
-    if (targets_[0] && targets_[1] && send_next_part()) return;
+    // without one. Not when the window sends them between frames.
+    if (targets_[0] && targets_[1] && !parts_between_frames_ && send_next_part()) return;
     width = std::max(width, 1);
     height = std::max(height, 1);
     const bool moving = !same_camera(camera, last_camera_);
@@ -216,7 +245,8 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
     const auto now = std::chrono::steady_clock::now();
     const render::Viewport viewport{0, 0, width, height};
     for (std::size_t i = 0; i < kViews; ++i) {
-        if (!targets_[i]) continue; // its first picture comes with the next render
+        if (!targets_[i]) continue;               // its first picture comes with the next render
+        if (next_part_[i] != kNoUpload) continue; // its buffers are being sent: drawn after
         // Too many triangles for one frame: the preview now, the whole mesh in parts after.
         const bool large = views_[i].has_preview() && views_[i].triangle_count() > part_triangles_;
         if (all || dirty_[i]) {
@@ -243,7 +273,7 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
     // At most one part a frame, and none in a frame that drew anything else: the UI thread's
     // share of software GL stays within a frame.
     for (std::size_t i = 0; i < kViews && !drew; ++i)
-        if (drawing_parts_[i]) {
+        if (drawing_parts_[i] && next_part_[i] == kNoUpload) {
             draw_next_part(i, viewport, camera, style);
             drew = true;
         }
@@ -255,8 +285,12 @@ void ViewRenderer::render(int width, int height, const render::OrbitCamera& came
 }
 
 bool ViewRenderer::draw_part_between_frames() {
+    // A mesh's buffers first: the views wait for them. Once the views have pictures, as render()
+    // sends them.
+    if (targets_[0] && targets_[1] && send_next_part()) return true;
     for (std::size_t i = 0; i < kViews; ++i) {
-        if (!drawing_parts_[i]) continue;
+        // A view whose mesh changed is drawn anew by the next render(): its parts are moot.
+        if (!drawing_parts_[i] || dirty_[i]) continue;
         const render::Viewport viewport{0, 0, parts_[i]->width(), parts_[i]->height()};
         draw_next_part(i, viewport, last_camera_, last_style_);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);

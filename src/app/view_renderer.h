@@ -55,8 +55,10 @@ class ViewRenderer {
     // Uploads a view's mesh when it is a different one (null clears the view): nothing for the
     // same geometry (a frame's measured version), positions, normals and quality only for the
     // same topology (another iteration), everything otherwise. A mesh of more than
-    // kStagedUploadTriangles gets its new buffers from the next render()s, one part each
-    // (MeshView::upload_part), and is drawn after; its view keeps its last picture meanwhile.
+    // kStagedUploadTriangles gets its new buffers (MeshView::upload_part), or the rest of its
+    // update after the changed indices (MeshView::update_part), from the next render()s or
+    // draw_part_between_frames() calls, one part each, and is drawn after; its view keeps its
+    // last picture meanwhile.
     void set_mesh(int view, std::shared_ptr<const DisplayMesh> mesh);
     bool has_mesh(int view) const { return meshes_[std::size_t(view)] != nullptr; }
     // The view's picture shows its mesh (whole or its preview): sent and drawn since set_mesh.
@@ -86,17 +88,21 @@ class ViewRenderer {
     // once nothing changed for kQuiet, the whole mesh is drawn again. A mesh too large for one
     // frame shows its preview until its parts, one a frame, are all drawn.
     // Each render() does one of the costly things only (with software GL each takes a good part
-    // of a frame): a part of a large mesh's new buffers, the views' drawing (with one view's new
+    // of a frame): a part of a large mesh's buffers (none with set_parts_between_frames), the
+    // views' drawing (a view whose buffers are being sent keeps its picture; with one view's new
     // picture made first), starting a view's parts (its second picture cleared, made the first
     // time), or one part.
     void render(int width, int height, const render::OrbitCamera& camera,
                 const render::DrawStyle& style);
-    // The next part of a view's whole mesh, as a render() would draw it, with the last render's
-    // camera and style: the window draws parts while it waits for its next frame, so a large mesh
-    // does not take a frame (the UI drawn and swapped, 10-20 ms of software GL) a part. False
-    // when no view is drawing parts. A view's last part leaves picture_waiting() true until the
-    // next render().
+    // The next part of a view's buffers to send, else the next part of a view's whole mesh, as
+    // a render() would draw it, with the last render's camera and style: the window does these
+    // while it waits for its next frame, so a large mesh does not take a frame (the UI drawn
+    // and swapped, 10-20 ms of software GL) a part. False when there is neither. A view's last
+    // part leaves picture_waiting() true until the next render().
     bool draw_part_between_frames();
+    // The window sends a mesh's buffers between frames (draw_part_between_frames): render() then
+    // leaves them to it, and a frame is the UI's alone. False (the default): render() sends them.
+    void set_parts_between_frames(bool between) { parts_between_frames_ = between; }
     // A view's whole mesh was finished between frames, and no frame has shown it yet.
     bool picture_waiting() const { return picture_waiting_; }
     // A view does not show its whole mesh yet (it shows the preview, its mesh is still being
@@ -104,7 +110,7 @@ class ViewRenderer {
     bool needs_refine() const {
         return refine_[0] || refine_[1] || sending() || dirty_[0] || dirty_[1];
     }
-    // True while a view's new buffers are sent, a part a render.
+    // True while a view's new buffers or its update are sent, a part at a time.
     bool sending() const { return next_part_[0] != kNoUpload || next_part_[1] != kNoUpload; }
     // The next render() has work: a part to send, or a view whose mesh changed to draw.
     bool has_pending_work() const { return sending() || dirty_[0] || dirty_[1]; }
@@ -157,11 +163,12 @@ class ViewRenderer {
     std::array<std::unique_ptr<render::RenderTarget>, kViews> parts_; // the whole mesh, in parts
     std::array<bool, kViews> drawing_parts_{false, false};
     std::array<bool, kViews> parts_due_{false, false}; // start the parts at the next render()
-    // The next part of a view's new buffers that render() sends (MeshView::upload_part), or
-    // kNoUpload.
+    // The next part of a view's new buffers or update to send (MeshView::upload_part or
+    // update_part), or kNoUpload.
     static constexpr int kNoUpload = -1;
     std::array<int, kViews> next_part_{kNoUpload, kNoUpload};
-    std::array<std::size_t, kViews> parts_drawn_{}; // triangles drawn into parts_
+    std::array<bool, kViews> updating_{false, false}; // the parts are an update's (same topology)
+    std::array<std::size_t, kViews> parts_drawn_{};   // triangles drawn into parts_
     std::size_t part_triangles_ = kFirstPartTriangles;
     std::array<std::chrono::steady_clock::time_point, kViews> last_change_{};
     std::array<std::chrono::milliseconds, kViews> quiet_{kQuiet, kQuiet};
@@ -170,6 +177,7 @@ class ViewRenderer {
     int part_draws_ = 0;
     double part_ms_ = 0, largest_part_ms_ = 0;
     bool picture_waiting_ = false;
+    bool parts_between_frames_ = false;
     render::OrbitCamera last_camera_;
     render::DrawStyle last_style_;
     int render_count_ = 0;

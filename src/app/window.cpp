@@ -165,6 +165,7 @@ int run_window(const WindowOptions& options) {
     // A person's window (and the stats session, which measures it) keeps its frames short;
     // a screenshot run only waits for the result.
     app_options.background_worker = options.screenshot_path.empty();
+    app_options.parts_between_frames = options.screenshot_path.empty();
     WindowState state;
     app_options.wake = [&state] {
         state.event = true;
@@ -205,7 +206,8 @@ int run_window(const WindowOptions& options) {
         // changes, its results and the person's input waking the loop at once). Screenshots
         // are taken as fast as frames come, and the stats session's turn stands for a drag,
         // whose events would wake every frame.
-        if (!options.screenshot_path.empty() || (stats && stats->turning())) {
+        const bool polling = !options.screenshot_path.empty() || (stats && stats->turning());
+        if (polling) {
             glfwPollEvents();
         } else {
             const auto due_in = [&] {
@@ -220,11 +222,14 @@ int run_window(const WindowOptions& options) {
             };
             // A large mesh's parts go on while the loop waits, one at a time (each within the
             // views' part budget), until a frame is due or an event comes. While the worker
-            // computes they come at the animating rate, as one a frame did: a new iteration cuts
-            // a series short, so faster parts would mostly be drawn for nothing.
+            // computes, the parts of a drawing come at the animating rate, as one a frame did: a
+            // new iteration cuts a series short, so faster parts would mostly be drawn for
+            // nothing. The parts of a mesh's buffers go one after another: the views wait for
+            // them.
             double wait = due_in();
             while (wait > 0 && !state.event && app->draw_part_between_frames()) {
-                if (app->worker().busy())
+                wait = due_in(); // the part may have made a frame due (a mesh sent whole)
+                if (wait > 0 && app->worker().busy() && !app->sending_views())
                     glfwWaitEventsTimeout(std::min(App::kAnimatingFrame, wait));
                 else
                     glfwPollEvents();
@@ -235,6 +240,10 @@ int run_window(const WindowOptions& options) {
             else
                 glfwPollEvents();
         }
+        // While events stream in (a drag) or the frames follow one another, a part of a mesh's
+        // buffers still goes a frame.
+        if (app_options.parts_between_frames && (polling || state.event) && app->sending_views())
+            app->draw_part_between_frames();
         state.event = false;
         last_frame = std::chrono::steady_clock::now();
         if (glfwGetWindowAttrib(glfw.window, GLFW_ICONIFIED)) {

@@ -169,17 +169,89 @@ void MeshView::upload(const Mesh& mesh, std::span<const float> quality,
 
 namespace {
 
-std::size_t index_blocks(std::size_t triangles) {
-    return std::max<std::size_t>(1, (triangles + MeshView::kIndexBlockTriangles - 1) /
-                                        MeshView::kIndexBlockTriangles);
+// Pieces of at most `per_piece` items for `count` items; one for none (a buffer still gets its
+// storage).
+std::size_t pieces(std::size_t count, std::size_t per_piece) {
+    return std::max<std::size_t>(1, (count + per_piece - 1) / per_piece);
+}
+
+std::size_t vertex_pieces(const Mesh& mesh) {
+    return pieces(mesh.positions.size(), MeshView::kPartVertices);
+}
+
+std::size_t index_blocks(const Mesh& mesh) {
+    return pieces(mesh.triangle_count(), MeshView::kIndexBlockTriangles);
+}
+
+std::size_t quality_pieces(const Mesh& mesh) {
+    return pieces(mesh.triangle_count(), MeshView::kPartValues);
+}
+
+// Piece `piece` of `values`, `per_piece` items a piece, into `buffer` bound at `target`: the
+// first piece makes the buffer's storage for all of them (nothing written: the pieces write it).
+// Returns the bytes written.
+template <typename T>
+std::size_t send_piece(GLenum target, GLuint buffer, std::span<const T> values, std::size_t piece,
+                       std::size_t per_piece, bool make_storage) {
+    glBindBuffer(target, buffer);
+    if (make_storage)
+        glBufferData(target, GLsizeiptr(std::max<std::size_t>(values.size(), 1) * sizeof(T)),
+                     nullptr, GL_DYNAMIC_DRAW);
+    const std::size_t first = std::min(piece * per_piece, values.size());
+    const std::span<const T> part =
+        values.subspan(first, std::min(per_piece, values.size() - first));
+    if (!part.empty())
+        glBufferSubData(target, GLintptr(first * sizeof(T)), bytes(part), part.data());
+    glBindBuffer(target, 0);
+    return std::size_t(bytes(part));
 }
 
 } // namespace
 
 int MeshView::upload_parts(const Mesh& mesh) {
-    return 3 + int(index_blocks(mesh.triangle_count()));
+    return int(2 * vertex_pieces(mesh) + index_blocks(mesh) + quality_pieces(mesh));
 }
 
+int MeshView::update_parts(const Mesh& mesh) {
+    return int(2 * vertex_pieces(mesh) + quality_pieces(mesh));
+}
+
+int MeshView::quality_parts(const Mesh& mesh) {
+    return int(quality_pieces(mesh));
+}
+
+// Part `part` of the positions, the normals and the quality, which upload_part and update_part
+// send alike: the positions' pieces, the normals', then (after the indices, when uploading) the
+// quality's. `storage`: the first piece of each makes its buffer's storage.
+void MeshView::send_vertex_or_quality_part(int part, const Mesh& mesh,
+                                           std::span<const float> quality,
+                                           std::span<const glm::vec3> normals, bool storage) {
+    const int vertex = int(vertex_pieces(mesh));
+    if (part < vertex) {
+        counters_.vertex_bytes += send_piece(
+            GL_ARRAY_BUFFER, position_buffer_, std::span<const glm::vec3>(mesh.positions),
+            std::size_t(part), kPartVertices, storage && part == 0);
+    } else if (part < 2 * vertex) {
+        std::vector<glm::vec3> computed;
+        normals = normals_of(mesh, normals, computed);
+        const auto piece = std::size_t(part - vertex);
+        counters_.vertex_bytes += send_piece(GL_ARRAY_BUFFER, normal_buffer_, normals, piece,
+                                             kPartVertices, storage && piece == 0);
+    } else {
+        std::vector<float> computed;
+        quality = quality_of(mesh, quality, computed);
+        const auto piece = std::size_t(part - 2 * vertex);
+        const bool first = storage && piece == 0;
+        // An empty mesh's storage holds one unused value: a buffer texture needs storage.
+        counters_.quality_bytes +=
+            send_piece(GL_TEXTURE_BUFFER, quality_buffer_, quality, piece, kPartValues, first);
+        if (first) {
+            glBindTexture(GL_TEXTURE_BUFFER, quality_texture_);
+            glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, quality_buffer_);
+            glBindTexture(GL_TEXTURE_BUFFER, 0);
+        }
+    }
+}
 void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> quality,
                            std::span<const glm::vec3> normals) {
     if (vertex_array_ == 0) {
@@ -189,40 +261,38 @@ void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> qu
         glGenBuffers(1, &quality_buffer_);
         glGenTextures(1, &quality_texture_);
     }
-    // Positions and normals in buffers of their own: a relaxation step replaces both straight
-    // from the mesh's arrays. DYNAMIC: they may be updated many times.
-    const auto send_vertices = [&](GLuint buffer, GLuint attribute,
-                                   std::span<const glm::vec3> values) {
-        glBindVertexArray(vertex_array_);
-        glBindBuffer(GL_ARRAY_BUFFER, buffer);
-        glBufferData(GL_ARRAY_BUFFER, bytes(values), values.data(), GL_DYNAMIC_DRAW);
-        glEnableVertexAttribArray(attribute);
-        glVertexAttribPointer(attribute, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
-        glBindVertexArray(0);
-        counters_.vertex_bytes += std::size_t(bytes(values));
-    };
-    const std::size_t blocks = index_blocks(mesh.triangle_count());
-    const int quality_part = 2 + int(blocks);
-    if (part < 0 || part > quality_part)
+    const int vertex = int(vertex_pieces(mesh)), blocks = int(index_blocks(mesh));
+    const int parts = upload_parts(mesh);
+    if (part < 0 || part >= parts)
         throw std::invalid_argument("MeshView::upload_part: no part " + std::to_string(part));
     if (part == 0) {
         if (mesh.indices.size() % 3 != 0)
             throw std::invalid_argument("mesh index count is not a multiple of 3");
         triangles_ = vertices_ = preview_triangles_ = 0; // nothing to draw until complete
-        send_vertices(position_buffer_, 0, mesh.positions);
-    } else if (part == 1) {
-        std::vector<glm::vec3> computed;
-        send_vertices(normal_buffer_, 1, normals_of(mesh, normals, computed));
-    } else if (part < quality_part) {
-        const std::size_t block = std::size_t(part - 2), size = 3 * kIndexBlockTriangles;
+    }
+    if (part < 2 * vertex) {
+        send_vertex_or_quality_part(part, mesh, {}, normals, true);
+        // Positions and normals in buffers of their own: a relaxation step replaces both straight
+        // from the mesh's arrays.
+        if (part == 0 || part == vertex) {
+            const GLuint attribute = part == 0 ? 0 : 1;
+            glBindVertexArray(vertex_array_);
+            glBindBuffer(GL_ARRAY_BUFFER, part == 0 ? position_buffer_ : normal_buffer_);
+            glEnableVertexAttribArray(attribute);
+            glVertexAttribPointer(attribute, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+            glBindVertexArray(0);
+            glBindBuffer(GL_ARRAY_BUFFER, 0);
+        }
+    } else if (part < 2 * vertex + blocks) {
+        const std::size_t block = std::size_t(part - 2 * vertex), size = 3 * kIndexBlockTriangles;
         const std::size_t first = std::min(block * size, mesh.indices.size());
         const std::span<const std::uint32_t> indices =
             std::span<const std::uint32_t>(mesh.indices)
                 .subspan(first, std::min(size, mesh.indices.size() - first));
         check_indices(indices, mesh.positions.size());
-        if (index_buffers_.size() != blocks) {
+        if (index_buffers_.size() != std::size_t(blocks)) {
             glDeleteBuffers(GLsizei(index_buffers_.size()), index_buffers_.data());
-            index_buffers_.assign(blocks, 0);
+            index_buffers_.assign(std::size_t(blocks), 0);
             glGenBuffers(GLsizei(blocks), index_buffers_.data());
         }
         // Through a neutral target: the element binding belongs to the vertex array, and the
@@ -232,23 +302,24 @@ void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> qu
         glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
         counters_.index_bytes += std::size_t(bytes(indices));
     } else {
-        std::vector<float> computed;
-        quality = quality_of(mesh, quality, computed);
-        upload_quality(quality_buffer_, quality_texture_, quality);
-        counters_.quality_bytes += std::size_t(bytes(quality));
-        triangles_ = mesh.triangle_count();
-        vertices_ = mesh.positions.size();
-        bounds_ = mesh_bounds(mesh);
-        ++counters_.uploads;
+        send_vertex_or_quality_part(part - blocks, mesh, quality, {}, true);
+        if (part == parts - 1) {
+            triangles_ = mesh.triangle_count();
+            vertices_ = mesh.positions.size();
+            bounds_ = mesh_bounds(mesh);
+            ++counters_.uploads;
+        }
     }
     check_gl("MeshView::upload");
 }
 
-bool MeshView::update(const Mesh& mesh, std::span<const IndexRun> changed,
-                      std::span<const float> quality, std::span<const glm::vec3> normals) {
-    if (vertex_array_ == 0 || mesh.positions.size() != vertices_ ||
-        mesh.indices.size() != triangles_ * 3)
-        return false;
+bool MeshView::can_update(const Mesh& mesh) const {
+    return vertex_array_ != 0 && mesh.positions.size() == vertices_ &&
+           mesh.indices.size() == triangles_ * 3;
+}
+
+bool MeshView::begin_update(const Mesh& mesh, std::span<const IndexRun> changed) {
+    if (!can_update(mesh)) return false;
     const std::span<const std::uint32_t> indices = mesh.indices;
     for (const IndexRun& run : changed) {
         if (run.first > run.end || run.end > indices.size())
@@ -258,18 +329,6 @@ bool MeshView::update(const Mesh& mesh, std::span<const IndexRun> changed,
                                         " indices");
         check_indices(indices.subspan(run.first, run.end - run.first), vertices_);
     }
-    std::vector<float> computed_quality;
-    quality = quality_of(mesh, quality, computed_quality);
-    std::vector<glm::vec3> computed_normals;
-    normals = normals_of(mesh, normals, computed_normals);
-
-    const std::span<const glm::vec3> positions = mesh.positions;
-    glBindBuffer(GL_ARRAY_BUFFER, position_buffer_);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes(positions), positions.data());
-    glBindBuffer(GL_ARRAY_BUFFER, normal_buffer_);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes(normals), normals.data());
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    std::size_t index_bytes = 0;
     constexpr std::size_t kBlockIndices = 3 * kIndexBlockTriangles;
     for (const IndexRun& changed_run : changed) {
         // A run may cross from one block's buffer into the next.
@@ -281,23 +340,40 @@ bool MeshView::update(const Mesh& mesh, std::span<const IndexRun> changed,
             glBufferSubData(GL_COPY_WRITE_BUFFER,
                             GLintptr((b - block * kBlockIndices) * sizeof(std::uint32_t)),
                             bytes(run), run.data());
-            index_bytes += std::size_t(bytes(run));
+            counters_.index_bytes += std::size_t(bytes(run));
             b = end;
         }
     }
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
-    if (!quality.empty()) {
-        glBindBuffer(GL_TEXTURE_BUFFER, quality_buffer_);
-        glBufferSubData(GL_TEXTURE_BUFFER, 0, bytes(quality), quality.data());
-        glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    check_gl("MeshView::update");
+    return true;
+}
+
+void MeshView::update_part(int part, const Mesh& mesh, std::span<const float> quality,
+                           std::span<const glm::vec3> normals) {
+    const int parts = update_parts(mesh);
+    if (part < 0 || part >= parts || !can_update(mesh))
+        throw std::invalid_argument("MeshView::update_part: no part " + std::to_string(part) +
+                                    " of this mesh");
+    send_vertex_or_quality_part(part, mesh, quality, normals, false);
+    if (part == parts - 1) {
+        bounds_ = mesh_bounds(mesh);
+        ++counters_.updates;
     }
     check_gl("MeshView::update");
+}
 
-    bounds_ = mesh_bounds(mesh);
-    ++counters_.updates;
-    counters_.vertex_bytes += std::size_t(bytes(positions) + bytes(normals));
-    counters_.index_bytes += index_bytes;
-    counters_.quality_bytes += std::size_t(bytes(quality));
+bool MeshView::update(const Mesh& mesh, std::span<const IndexRun> changed,
+                      std::span<const float> quality, std::span<const glm::vec3> normals) {
+    if (!can_update(mesh)) return false;
+    // Everything checked before anything is sent, as upload() does.
+    std::vector<float> computed_quality;
+    quality = quality_of(mesh, quality, computed_quality);
+    std::vector<glm::vec3> computed_normals;
+    normals = normals_of(mesh, normals, computed_normals);
+    begin_update(mesh, changed);
+    for (int part = 0, parts = update_parts(mesh); part < parts; ++part)
+        update_part(part, mesh, quality, normals);
     return true;
 }
 

@@ -85,16 +85,26 @@ class MeshView {
     // `normals` (one per vertex, as vertex_normals makes them) are computed here when empty.
     void upload(const Mesh& mesh, std::span<const float> quality = {},
                 std::span<const glm::vec3> normals = {});
-    // upload() in parts, for a software GL whose new storage is slow to make (llvmpipe clears it
-    // as it makes it: about 5 ms a MB on a small VM), so that each frame sends one: part 0 the
-    // positions, 1 the normals, then the indices a block of kIndexBlockTriangles at a time, last
-    // the quality; upload_parts(mesh) parts in all, each call with the same mesh. From part 0 the
-    // view is empty (draws nothing, no preview) until the last part completes it. Each part
-    // checks what it sends and throws std::invalid_argument as upload() does.
-    static constexpr std::size_t kIndexBlockTriangles = std::size_t(1) << 18; // 3 MB
+    // upload() in parts, for a software GL whose new storage is slow to make (the pages of
+    // llvmpipe's copy are the kernel's fresh ones: about 2.5 ms a MB on a small VM, 60-80 ms for
+    // a clinical mesh's positions at once), so that each step of the window sends one: the
+    // positions, the normals, the indices and the quality, in that order, each in pieces of at
+    // most kPartBytes (kPartVertices vertices, kIndexBlockTriangles triangles' indices,
+    // kPartValues values); upload_parts(mesh) parts in all, each call with the same mesh. From
+    // part 0 the view is empty (draws nothing, no preview) until the last part completes it.
+    // Each part checks what it sends and throws std::invalid_argument as upload() does. The
+    // normals and the quality are computed for each of their parts when not given: give them
+    // for a large mesh.
+    static constexpr std::size_t kPartBytes = std::size_t(3) << 20;
+    static constexpr std::size_t kPartVertices = kPartBytes / sizeof(glm::vec3);
+    static constexpr std::size_t kIndexBlockTriangles = kPartBytes / (3 * sizeof(std::uint32_t));
+    static constexpr std::size_t kPartValues = kPartBytes / sizeof(float);
     static int upload_parts(const Mesh& mesh);
     void upload_part(int part, const Mesh& mesh, std::span<const float> quality = {},
                      std::span<const glm::vec3> normals = {});
+    // The last quality_parts(mesh) parts of an upload or an update are the quality's: the
+    // values shown go with those.
+    static int quality_parts(const Mesh& mesh);
     // The same topology with new positions (a relaxation step): `mesh` has the vertex and
     // triangle counts of the mesh uploaded last, and `changed` holds the runs of its indices that
     // differ from that mesh's (changed_index_runs; none when the triangulation stayed). Sends the
@@ -102,6 +112,16 @@ class MeshView {
     // nothing, when the counts differ; throws std::invalid_argument for a run outside the mesh.
     bool update(const Mesh& mesh, std::span<const IndexRun> changed,
                 std::span<const float> quality = {}, std::span<const glm::vec3> normals = {});
+    // update() in parts: begin_update sends the changed runs at once (a few quads' diagonals a
+    // step) and returns false, sending nothing, when the counts differ (then upload); then
+    // update_parts(mesh) parts, the positions, the normals and the quality in pieces as
+    // upload_part sends them. Until the last, the GPU holds a mix of two meshes: not to be drawn.
+    bool begin_update(const Mesh& mesh, std::span<const IndexRun> changed);
+    // Whether `mesh` has the counts of the mesh uploaded last (what update() needs).
+    bool can_update(const Mesh& mesh) const;
+    static int update_parts(const Mesh& mesh);
+    void update_part(int part, const Mesh& mesh, std::span<const float> quality = {},
+                     std::span<const glm::vec3> normals = {});
     const UploadCounters& counters() const { return counters_; }
     // A coarse stand-in over the same vertices, drawn instead of the mesh when asked (while
     // the camera moves): its triangles (3 indices each) and their quality. Empty: none.
@@ -117,6 +137,10 @@ class MeshView {
   private:
     friend class MeshRenderer;
     void release();
+    // Part `part` of the positions' pieces, then the normals', then the quality's (`storage`:
+    // each buffer's first piece makes its storage, as an upload needs).
+    void send_vertex_or_quality_part(int part, const Mesh& mesh, std::span<const float> quality,
+                                     std::span<const glm::vec3> normals, bool storage);
 
     GLuint vertex_array_ = 0, position_buffer_ = 0, normal_buffer_ = 0;
     // The indices in blocks of kIndexBlockTriangles, a buffer each (drawn a block a call): no

@@ -1017,6 +1017,91 @@ TEST(AppViews, LargeMeshSentInPartsBeforeItIsDrawn) {
     h->frame(); // the app's own target is bound again for its frame
 }
 
+// The same topology with new positions (a relaxation step) on a mesh of more than
+// kStagedUploadTriangles: the changed indices go at once, the positions, normals and quality a
+// part a render, and the view is drawn only after the last, as the mesh uploaded whole would be.
+TEST(AppViews, LargeMeshUpdateSentInPartsBeforeItIsDrawn) {
+    auto h = make_app(1); // for its GL context
+    ASSERT_TRUE(h->run_until(settled));
+    const auto mesh = sphere_mesh(200);
+    ASSERT_GT(mesh->mesh.triangle_count(), ViewRenderer::kStagedUploadTriangles);
+    const render::OrbitCamera camera =
+        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    render::DrawStyle style;
+    style.shading = render::Shading::Quality;
+    auto moved = std::make_shared<DisplayMesh>(*mesh);
+    moved->geometry = 2;
+    const glm::vec3 centre = 0.5f * (mesh_bounds(mesh->mesh).min + mesh_bounds(mesh->mesh).max);
+    for (glm::vec3& p : moved->mesh.positions) p = centre + 0.8f * (p - centre);
+    // Some triangles' corners in another order: runs of changed indices.
+    for (std::size_t t = 0; t < 600; t += 2)
+        std::swap(moved->mesh.indices[3 * t], moved->mesh.indices[3 * t + 1]);
+    moved->measure_triangles();
+    moved->normals = render::vertex_normals(moved->mesh);
+
+    ViewRenderer views;
+    views.set_mesh(0, mesh);
+    render_until_whole(views, camera, style);
+    ASSERT_FALSE(views.needs_refine());
+    const std::vector<std::uint8_t> before = view_pixels(views, 0, 200, 150);
+    const int renders = views.render_count();
+    const std::size_t index_bytes = views.uploads(0).index_bytes;
+    views.set_mesh(0, moved);
+    EXPECT_TRUE(views.sending());
+    EXPECT_GT(views.uploads(0).index_bytes, index_bytes) << "the changed runs go at once";
+    EXPECT_LT(views.uploads(0).index_bytes - index_bytes, moved->mesh.indices.size() * 4);
+    const int parts = render::MeshView::update_parts(moved->mesh);
+    for (int part = 0; part < parts; ++part) {
+        EXPECT_TRUE(views.sending()) << part;
+        EXPECT_EQ(views.uploads(0).updates, 0) << part;
+        views.render(200, 150, camera, style);
+        EXPECT_EQ(views.render_count(), renders) << "drawn after part " << part;
+        EXPECT_TRUE(view_pixels(views, 0, 200, 150) == before) << part;
+    }
+    EXPECT_FALSE(views.sending());
+    EXPECT_EQ(views.uploads(0).updates, 1);
+    EXPECT_EQ(views.uploads(0).uploads, 1) << "no new buffers";
+    render_until_whole(views, camera, style);
+    ViewRenderer fresh;
+    fresh.set_mesh(0, moved);
+    render_until_whole(fresh, camera, style);
+    const std::vector<std::uint8_t> after = view_pixels(views, 0, 200, 150);
+    EXPECT_FALSE(after == before);
+    EXPECT_TRUE(after == view_pixels(fresh, 0, 200, 150)) << "the update differs from an upload";
+    h->frame(); // the app's own target is bound again for its frame
+}
+
+// In the window the glue sends a mesh's buffers between frames: render() leaves them, and each
+// draw_part_between_frames() sends one part, until the view can be drawn.
+TEST(AppViews, WindowSendsMeshBuffersBetweenFrames) {
+    auto h = make_app(1); // for its GL context
+    ASSERT_TRUE(h->run_until(settled));
+    const auto mesh = sphere_mesh(200);
+    const render::OrbitCamera camera =
+        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    const render::DrawStyle style;
+    ViewRenderer views;
+    views.set_parts_between_frames(true);
+    views.render(200, 150, camera, style);
+    views.render(200, 150, camera, style); // both views' first pictures
+    views.set_mesh(0, mesh);
+    const int renders = views.render_count();
+    views.render(200, 150, camera, style);
+    EXPECT_EQ(views.uploads(0).vertex_bytes, 0u) << "render() sent a part";
+    EXPECT_EQ(views.render_count(), renders);
+    int parts = 0;
+    while (views.sending() && parts < 1000) {
+        EXPECT_TRUE(views.draw_part_between_frames());
+        ++parts;
+    }
+    EXPECT_EQ(parts, render::MeshView::upload_parts(mesh->mesh));
+    EXPECT_EQ(views.uploads(0).uploads, 1);
+    EXPECT_TRUE(views.has_pending_work()) << "the view waits for its frame";
+    views.render(200, 150, camera, style);
+    EXPECT_EQ(views.render_count(), renders + 1);
+    h->frame(); // the app's own target is bound again for its frame
+}
+
 // A new volume is framed once its own mesh arrives, at the views' size: not on the old mesh,
 // which stays on screen until then.
 TEST(AppViews, OpeningAnotherVolumeFramesIt) {

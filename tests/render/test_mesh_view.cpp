@@ -138,7 +138,8 @@ TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
     };
     const Mesh mesh = strip(0, squares);
     ASSERT_EQ(mesh.triangle_count(), 2 * MeshView::kIndexBlockTriangles);
-    EXPECT_EQ(MeshView::upload_parts(mesh), 5); // positions, normals, two blocks, quality
+    // Positions and normals in three pieces each (2^19 + 2 vertices), two blocks, the quality.
+    EXPECT_EQ(MeshView::upload_parts(mesh), 3 + 3 + 2 + 1);
     // Qualities across the colour map, so that a block's triangle read with another's quality
     // shows.
     std::vector<float> quality(mesh.triangle_count());
@@ -175,6 +176,77 @@ TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
     const std::vector<std::uint8_t> updated = picture({&view});
     EXPECT_NE(updated, blocks) << "the flips change which quality a pixel shows";
     EXPECT_EQ(updated, picture({&fresh}));
+}
+
+// A mesh larger than a part in every array (positions, normals, indices, quality) goes in
+// pieces of at most kPartBytes, uploaded and updated: the pictures and the bytes sent are those
+// of upload() and update() in one call.
+TEST_F(MeshViewTest, LargeMeshGoesInPiecesAsInOneCall) {
+    const std::uint32_t squares = 400000;
+    const auto strip = [&](float height, std::uint32_t flip_end) {
+        Mesh mesh;
+        for (std::uint32_t i = 0; i <= squares; ++i) {
+            const float x = float(i) / float(squares);
+            mesh.positions.push_back({x, 0.0f, 0.0f});
+            mesh.positions.push_back({x, height, 0.0f});
+        }
+        for (std::uint32_t i = 0; i < squares; ++i) {
+            const std::uint32_t a = 2 * i, b = a + 2, c = a + 3, d = a + 1;
+            if (i < flip_end)
+                mesh.indices.insert(mesh.indices.end(), {a, b, d, b, c, d});
+            else
+                mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+        }
+        return mesh;
+    };
+    const Mesh mesh = strip(0.05f, 0);
+    ASSERT_GT(mesh.positions.size(), 3 * MeshView::kPartVertices);
+    ASSERT_GT(mesh.triangle_count(), MeshView::kPartValues);
+    // 4 pieces of positions and of normals, 4 blocks of indices, 2 pieces of quality.
+    EXPECT_EQ(MeshView::upload_parts(mesh), 4 + 4 + 4 + 2);
+    EXPECT_EQ(MeshView::update_parts(mesh), 4 + 4 + 2);
+    EXPECT_EQ(MeshView::quality_parts(mesh), 2);
+    std::vector<float> quality(mesh.triangle_count());
+    for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = float(t % 89) / 88.0f;
+    RenderTarget target(256, 16, 1);
+    MeshRenderer renderer;
+    DrawStyle style;
+    style.shading = Shading::Quality;
+    const Viewport all{0, 0, 256, 16};
+    const OrbitCamera camera = frame_bounds(mesh_bounds(mesh), ViewPreset::Top, 16.0f, 0.0f);
+    const auto picture = [&](const MeshView& view) {
+        renderer.draw_background(all, style);
+        renderer.draw(view, camera, all, style);
+        return target.read().rgba;
+    };
+    MeshView whole, parts;
+    whole.upload(mesh, quality);
+    for (int part = 0; part < MeshView::upload_parts(mesh); ++part)
+        parts.upload_part(part, mesh, quality);
+    EXPECT_EQ(parts.counters().vertex_bytes, whole.counters().vertex_bytes);
+    EXPECT_EQ(parts.counters().index_bytes, whole.counters().index_bytes);
+    EXPECT_EQ(parts.counters().quality_bytes, whole.counters().quality_bytes);
+    EXPECT_EQ(whole.counters().vertex_bytes, 2 * mesh.positions.size() * sizeof(glm::vec3));
+    EXPECT_EQ(whole.counters().quality_bytes, quality.size() * sizeof(float));
+    EXPECT_EQ(picture(parts), picture(whole));
+
+    // Taller, and the first quarter's diagonals flipped.
+    const Mesh moved = strip(0.08f, squares / 4);
+    const std::vector<IndexRun> runs = changed_index_runs(moved.indices, mesh.indices);
+    ASSERT_TRUE(whole.update(moved, runs, quality));
+    ASSERT_TRUE(parts.begin_update(moved, runs));
+    for (int part = 0; part < MeshView::update_parts(moved); ++part)
+        parts.update_part(part, moved, quality);
+    EXPECT_EQ(parts.counters().updates, 1);
+    EXPECT_EQ(parts.counters().vertex_bytes, whole.counters().vertex_bytes);
+    EXPECT_EQ(parts.counters().index_bytes, whole.counters().index_bytes);
+    MeshView fresh;
+    fresh.upload(moved, quality);
+    const std::vector<std::uint8_t> updated = picture(parts);
+    EXPECT_EQ(updated, picture(fresh));
+    EXPECT_EQ(updated, picture(whole));
+    EXPECT_THROW(parts.update_part(MeshView::update_parts(moved), moved), std::invalid_argument);
+    EXPECT_FALSE(parts.begin_update(square(), {})) << "another topology";
 }
 
 // Blocks of 128 triangles (384 indices) compared; neighbouring changed blocks join into one run.
