@@ -2,6 +2,8 @@
 // them for the next ones. Only speed and resident memory depend on it, never a result.
 #pragma once
 
+#include <cstddef>
+
 namespace snert::cli {
 
 enum class FreedMemory {
@@ -14,6 +16,11 @@ enum class FreedMemory {
 };
 
 void set_freed_memory(FreedMemory policy);
+
+// Grows the heap by `bytes` (at most 1 GiB; nothing touched), advises that span onto transparent
+// huge pages and frees it, kept (the trim threshold raised by as much): the later buffers made
+// there fault 2 MiB at a time, not 4 KiB. Nothing under the sanitizers.
+void reserve_heap_on_huge_pages(std::size_t bytes);
 
 // While alive, freed memory is kept; afterwards it is returned again, and what was kept goes back.
 class KeepFreedMemory {

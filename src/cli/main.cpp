@@ -78,6 +78,8 @@ int main(int argc, char** argv) {
         snert::cli::set_freed_memory(command.empty() || command == "gui"
                                          ? snert::cli::FreedMemory::Kept
                                          : snert::cli::FreedMemory::Returned);
+        if (command.empty() || command == "gui")
+            snert::cli::reserve_heap_on_huge_pages(std::size_t(512) << 20);
         if (command.empty()) {
 #ifdef SNERT_HAVE_APP
             return runners.at("gui")();
