@@ -18,8 +18,8 @@
 #include <sys/mman.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <vector>
 
 namespace snert::cli {
@@ -54,12 +54,12 @@ void reserve_heap_on_huge_pages(std::size_t bytes) {
         if (void* block = std::malloc(kBlock)) blocks.push_back(block);
     // Each block's whole 2 MiB pages (a block's first and last may share theirs with its
     // neighbours' headers).
-    constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;
+    constexpr std::size_t kHuge = std::size_t(2) << 20;
     for (void* block : blocks) {
-        const auto first = reinterpret_cast<std::uintptr_t>(block);
-        const std::uintptr_t begin = (first + kHuge - 1) & ~(kHuge - 1);
-        const std::uintptr_t end = (first + kBlock) & ~(kHuge - 1);
-        if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+        void* start = block;
+        std::size_t space = kBlock;
+        if (std::align(kHuge, kHuge, start, space))
+            madvise(start, space / kHuge * kHuge, MADV_HUGEPAGE);
     }
     for (void* block : blocks) std::free(block);
 #endif

@@ -824,6 +824,11 @@ std::shared_ptr<DisplayMesh> sphere_mesh(int size) {
     return mesh;
 }
 
+// From the front (z up), for the views' 200 x 150 pictures.
+render::OrbitCamera front_camera(const DisplayMesh& mesh) {
+    return render::frame_bounds(mesh_bounds(mesh.mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+}
+
 // Renders until the view shows its whole mesh; returns the renders that took.
 int render_until_whole(ViewRenderer& views, const render::OrbitCamera& camera,
                        const render::DrawStyle& style) {
@@ -868,8 +873,7 @@ TEST(AppViews, LargeMeshDrawnInPartsEqualsOneDraw) {
     mesh->preview = std::make_shared<const PreviewMesh>(make_preview(mesh->mesh));
     ASSERT_FALSE(mesh->preview->indices.empty());
     // From the front (z up): the first triangles (low z) and the last both in the picture.
-    const render::OrbitCamera camera =
-        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    const render::OrbitCamera camera = front_camera(*mesh);
     render::DrawStyle style;
     style.shading = render::Shading::Quality; // the colours follow each triangle's index
     std::vector<std::uint8_t> one;
@@ -974,8 +978,7 @@ TEST(AppViews, LargeMeshSentInPartsBeforeItIsDrawn) {
     ASSERT_TRUE(h->run_until(settled));
     const auto mesh = sphere_mesh(200);
     ASSERT_GT(mesh->mesh.triangle_count(), ViewRenderer::kStagedUploadTriangles);
-    const render::OrbitCamera camera =
-        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    const render::OrbitCamera camera = front_camera(*mesh);
     const render::DrawStyle style;
     ViewRenderer views;
     // The views' first pictures are made a render each (fresh memory for their samples).
@@ -1025,8 +1028,7 @@ TEST(AppViews, LargeMeshUpdateSentInPartsBeforeItIsDrawn) {
     ASSERT_TRUE(h->run_until(settled));
     const auto mesh = sphere_mesh(200);
     ASSERT_GT(mesh->mesh.triangle_count(), ViewRenderer::kStagedUploadTriangles);
-    const render::OrbitCamera camera =
-        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    const render::OrbitCamera camera = front_camera(*mesh);
     render::DrawStyle style;
     style.shading = render::Shading::Quality;
     auto moved = std::make_shared<DisplayMesh>(*mesh);
@@ -1077,8 +1079,7 @@ TEST(AppViews, WindowSendsMeshBuffersBetweenFrames) {
     auto h = make_app(1); // for its GL context
     ASSERT_TRUE(h->run_until(settled));
     const auto mesh = sphere_mesh(200);
-    const render::OrbitCamera camera =
-        render::frame_bounds(mesh_bounds(mesh->mesh), render::ViewPreset::Front, 200.0f / 150.0f);
+    const render::OrbitCamera camera = front_camera(*mesh);
     const render::DrawStyle style;
     ViewRenderer views;
     views.set_parts_between_frames(true);

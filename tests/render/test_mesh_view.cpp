@@ -111,6 +111,50 @@ TEST_F(MeshViewTest, UploadInPartsDrawsNothingUntilCompleteThenAsOneUpload) {
     EXPECT_THROW(parts.upload_part(count, mesh), std::invalid_argument);
 }
 
+// Squares [first, end) of a strip of `squares` unit-wide squares along x (x from 0 to 1), each
+// `height` tall and split into two triangles; squares [flip_first, flip_end) along their other
+// diagonal.
+namespace {
+
+Mesh strip_of_squares(std::uint32_t squares, std::uint32_t first, std::uint32_t end, float height,
+                      std::uint32_t flip_first = 0, std::uint32_t flip_end = 0) {
+    Mesh mesh;
+    for (std::uint32_t i = first; i <= end; ++i) {
+        const float x = float(i) / float(squares);
+        mesh.positions.push_back({x, 0.0f, 0.0f});
+        mesh.positions.push_back({x, height, 0.0f});
+    }
+    for (std::uint32_t i = 0; i < end - first; ++i) {
+        const std::uint32_t a = 2 * i, b = a + 2, c = a + 3, d = a + 1;
+        if (first + i >= flip_first && first + i < flip_end)
+            mesh.indices.insert(mesh.indices.end(), {a, b, d, b, c, d});
+        else
+            mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+    }
+    return mesh;
+}
+
+// Pictures of a strip of squares seen from above, in quality shading (a triangle read with
+// another's quality shows), 256 x 16 pixels.
+struct StripPictures {
+    explicit StripPictures(const Mesh& strip)
+        : camera(frame_bounds(mesh_bounds(strip), ViewPreset::Top, 16.0f, 0.0f)) {
+        style.shading = Shading::Quality;
+    }
+    std::vector<std::uint8_t> operator()(std::initializer_list<const MeshView*> views) {
+        renderer.draw_background(all, style);
+        for (const MeshView* view : views) renderer.draw(*view, camera, all, style);
+        return target.read().rgba;
+    }
+    RenderTarget target{256, 16, 1};
+    MeshRenderer renderer;
+    DrawStyle style;
+    Viewport all{0, 0, 256, 16};
+    OrbitCamera camera;
+};
+
+} // namespace
+
 // A mesh of two blocks of indices (kIndexBlockTriangles, a buffer each) is drawn a block a
 // call: the picture of its two halves drawn as meshes of their own, each triangle in its own
 // quality; a step that flips quads' diagonals across the blocks' border updates both blocks, as
@@ -118,23 +162,9 @@ TEST_F(MeshViewTest, UploadInPartsDrawsNothingUntilCompleteThenAsOneUpload) {
 TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
     // A strip of squares along x, the second block's triangles on its right half.
     const std::uint32_t squares = MeshView::kIndexBlockTriangles;
-    // Squares [flip_first, flip_end) split along their other diagonal.
-    const auto strip = [](std::uint32_t first, std::uint32_t end, std::uint32_t flip_first = 0,
-                          std::uint32_t flip_end = 0) {
-        Mesh mesh;
-        for (std::uint32_t i = first; i <= end; ++i) {
-            const float x = float(i) / float(squares);
-            mesh.positions.push_back({x, 0.0f, 0.0f});
-            mesh.positions.push_back({x, 0.05f, 0.0f});
-        }
-        for (std::uint32_t i = 0; i < end - first; ++i) {
-            const std::uint32_t a = 2 * i, b = a + 2, c = a + 3, d = a + 1;
-            if (first + i >= flip_first && first + i < flip_end)
-                mesh.indices.insert(mesh.indices.end(), {a, b, d, b, c, d});
-            else
-                mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
-        }
-        return mesh;
+    const auto strip = [&](std::uint32_t first, std::uint32_t end, std::uint32_t flip_first = 0,
+                           std::uint32_t flip_end = 0) {
+        return strip_of_squares(squares, first, end, 0.05f, flip_first, flip_end);
     };
     const Mesh mesh = strip(0, squares);
     ASSERT_EQ(mesh.triangle_count(), 2 * MeshView::kIndexBlockTriangles);
@@ -145,17 +175,7 @@ TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
     std::vector<float> quality(mesh.triangle_count());
     for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = float(t % 97) / 96.0f;
     const std::span<const float> all_quality = quality;
-    RenderTarget target(256, 16, 1);
-    MeshRenderer renderer;
-    DrawStyle style;
-    style.shading = Shading::Quality;
-    const Viewport all{0, 0, 256, 16};
-    const OrbitCamera camera = frame_bounds(mesh_bounds(mesh), ViewPreset::Top, 16.0f, 0.0f);
-    const auto picture = [&](std::initializer_list<const MeshView*> views) {
-        renderer.draw_background(all, style);
-        for (const MeshView* view : views) renderer.draw(*view, camera, all, style);
-        return target.read().rgba;
-    };
+    StripPictures picture(mesh);
     MeshView view;
     view.upload(mesh, quality);
     const std::vector<std::uint8_t> blocks = picture({&view});
@@ -184,20 +204,7 @@ TEST_F(MeshViewTest, IndicesInTwoBlocksDrawAsOneMesh) {
 TEST_F(MeshViewTest, LargeMeshGoesInPiecesAsInOneCall) {
     const std::uint32_t squares = 400000;
     const auto strip = [&](float height, std::uint32_t flip_end) {
-        Mesh mesh;
-        for (std::uint32_t i = 0; i <= squares; ++i) {
-            const float x = float(i) / float(squares);
-            mesh.positions.push_back({x, 0.0f, 0.0f});
-            mesh.positions.push_back({x, height, 0.0f});
-        }
-        for (std::uint32_t i = 0; i < squares; ++i) {
-            const std::uint32_t a = 2 * i, b = a + 2, c = a + 3, d = a + 1;
-            if (i < flip_end)
-                mesh.indices.insert(mesh.indices.end(), {a, b, d, b, c, d});
-            else
-                mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
-        }
-        return mesh;
+        return strip_of_squares(squares, 0, squares, height, 0, flip_end);
     };
     const Mesh mesh = strip(0.05f, 0);
     ASSERT_GT(mesh.positions.size(), 3 * MeshView::kPartVertices);
@@ -208,17 +215,8 @@ TEST_F(MeshViewTest, LargeMeshGoesInPiecesAsInOneCall) {
     EXPECT_EQ(MeshView::quality_parts(mesh), 2);
     std::vector<float> quality(mesh.triangle_count());
     for (std::size_t t = 0; t < quality.size(); ++t) quality[t] = float(t % 89) / 88.0f;
-    RenderTarget target(256, 16, 1);
-    MeshRenderer renderer;
-    DrawStyle style;
-    style.shading = Shading::Quality;
-    const Viewport all{0, 0, 256, 16};
-    const OrbitCamera camera = frame_bounds(mesh_bounds(mesh), ViewPreset::Top, 16.0f, 0.0f);
-    const auto picture = [&](const MeshView& view) {
-        renderer.draw_background(all, style);
-        renderer.draw(view, camera, all, style);
-        return target.read().rgba;
-    };
+    StripPictures pictures(mesh);
+    const auto picture = [&](const MeshView& view) { return pictures({&view}); };
     MeshView whole, parts;
     whole.upload(mesh, quality);
     for (int part = 0; part < MeshView::upload_parts(mesh); ++part)
