@@ -112,7 +112,8 @@ class ViewRenderer {
     }
     // True while a view's new buffers or its update are sent, a part at a time.
     bool sending() const { return next_part_[0] != kNoUpload || next_part_[1] != kNoUpload; }
-    // The next render() has work: a part to send, or a view whose mesh changed to draw.
+    // There is work for the views: a part to send (by the next render(), or between frames with
+    // set_parts_between_frames), or a view whose mesh changed to draw.
     bool has_pending_work() const { return sending() || dirty_[0] || dirty_[1]; }
     // True while a view's whole mesh is being drawn in parts, a part a frame or between frames.
     bool drawing_parts() const { return drawing_parts_[0] || drawing_parts_[1]; }

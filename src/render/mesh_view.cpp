@@ -138,17 +138,39 @@ template <typename T> GLsizeiptr bytes(std::span<const T> data) {
     return GLsizeiptr(data.size() * sizeof(T));
 }
 
-// Per-triangle quality into a buffer texture, fetched by gl_PrimitiveID. A buffer texture needs
-// storage, so an empty mesh gets one unused value.
-void upload_quality(GLuint buffer, GLuint texture, std::span<const float> quality) {
-    const float unused_value = 0.0f;
-    glBindBuffer(GL_TEXTURE_BUFFER, buffer);
-    glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(std::max<std::size_t>(quality.size(), 1) * 4),
-                 quality.empty() ? &unused_value : quality.data(), GL_DYNAMIC_DRAW);
+// Piece `piece` of `values`, `per_piece` items a piece, into `buffer` bound at `target`: the
+// first piece makes the buffer's storage for all of them (nothing written: the pieces write it).
+// Returns the bytes written.
+template <typename T>
+std::size_t send_piece(GLenum target, GLuint buffer, std::span<const T> values, std::size_t piece,
+                       std::size_t per_piece, bool make_storage) {
+    glBindBuffer(target, buffer);
+    if (make_storage)
+        glBufferData(target, GLsizeiptr(std::max<std::size_t>(values.size(), 1) * sizeof(T)),
+                     nullptr, GL_DYNAMIC_DRAW);
+    const std::size_t first = std::min(piece * per_piece, values.size());
+    const std::span<const T> part =
+        values.subspan(first, std::min(per_piece, values.size() - first));
+    if (!part.empty())
+        glBufferSubData(target, GLintptr(first * sizeof(T)), bytes(part), part.data());
+    glBindBuffer(target, 0);
+    return std::size_t(bytes(part));
+}
+
+// The quality's buffer as the buffer texture the shaders fetch a triangle's value from
+// (gl_PrimitiveID).
+void attach_quality_texture(GLuint texture, GLuint buffer) {
     glBindTexture(GL_TEXTURE_BUFFER, texture);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, buffer);
     glBindTexture(GL_TEXTURE_BUFFER, 0);
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+}
+
+// Per-triangle quality into a buffer texture, in one piece. A buffer texture needs storage, so an
+// empty mesh gets one unused value.
+void upload_quality(GLuint buffer, GLuint texture, std::span<const float> quality) {
+    send_piece(GL_TEXTURE_BUFFER, buffer, quality, 0, std::max<std::size_t>(quality.size(), 1),
+               true);
+    attach_quality_texture(texture, buffer);
 }
 
 } // namespace
@@ -185,25 +207,6 @@ std::size_t index_blocks(const Mesh& mesh) {
 
 std::size_t quality_pieces(const Mesh& mesh) {
     return pieces(mesh.triangle_count(), MeshView::kPartValues);
-}
-
-// Piece `piece` of `values`, `per_piece` items a piece, into `buffer` bound at `target`: the
-// first piece makes the buffer's storage for all of them (nothing written: the pieces write it).
-// Returns the bytes written.
-template <typename T>
-std::size_t send_piece(GLenum target, GLuint buffer, std::span<const T> values, std::size_t piece,
-                       std::size_t per_piece, bool make_storage) {
-    glBindBuffer(target, buffer);
-    if (make_storage)
-        glBufferData(target, GLsizeiptr(std::max<std::size_t>(values.size(), 1) * sizeof(T)),
-                     nullptr, GL_DYNAMIC_DRAW);
-    const std::size_t first = std::min(piece * per_piece, values.size());
-    const std::span<const T> part =
-        values.subspan(first, std::min(per_piece, values.size() - first));
-    if (!part.empty())
-        glBufferSubData(target, GLintptr(first * sizeof(T)), bytes(part), part.data());
-    glBindBuffer(target, 0);
-    return std::size_t(bytes(part));
 }
 
 } // namespace
@@ -245,13 +248,10 @@ void MeshView::send_vertex_or_quality_part(int part, const Mesh& mesh,
         // An empty mesh's storage holds one unused value: a buffer texture needs storage.
         counters_.quality_bytes +=
             send_piece(GL_TEXTURE_BUFFER, quality_buffer_, quality, piece, kPartValues, first);
-        if (first) {
-            glBindTexture(GL_TEXTURE_BUFFER, quality_texture_);
-            glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, quality_buffer_);
-            glBindTexture(GL_TEXTURE_BUFFER, 0);
-        }
+        if (first) attach_quality_texture(quality_texture_, quality_buffer_);
     }
 }
+
 void MeshView::upload_part(int part, const Mesh& mesh, std::span<const float> quality,
                            std::span<const glm::vec3> normals) {
     if (vertex_array_ == 0) {

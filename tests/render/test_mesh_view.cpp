@@ -111,11 +111,11 @@ TEST_F(MeshViewTest, UploadInPartsDrawsNothingUntilCompleteThenAsOneUpload) {
     EXPECT_THROW(parts.upload_part(count, mesh), std::invalid_argument);
 }
 
+namespace {
+
 // Squares [first, end) of a strip of `squares` unit-wide squares along x (x from 0 to 1), each
 // `height` tall and split into two triangles; squares [flip_first, flip_end) along their other
 // diagonal.
-namespace {
-
 Mesh strip_of_squares(std::uint32_t squares, std::uint32_t first, std::uint32_t end, float height,
                       std::uint32_t flip_first = 0, std::uint32_t flip_end = 0) {
     Mesh mesh;
