@@ -74,6 +74,67 @@ TEST(Orient, ExactOnNearlyCoplanarPoints) {
     EXPECT_GT(filter_hard, 0); // and cases where plain double arithmetic gets the sign wrong
 }
 
+// The exact stage takes integers when each axis's coordinates lie within 15 binades of each
+// other, and the expansions beyond. A lattice tetrahedron of volume 1/6 (or a flat one) sheared
+// by integer matrices of determinant 1 keeps its determinant, 1 or 0, under coordinates of
+// millions of grid steps: a determinant far below the filter's bound, which only an exact stage
+// gets right. Moved so that one coordinate is a few steps from zero (or not), an axis's spread
+// falls on either side of the limit.
+TEST(Orient, ExactAcrossTheIntegerStagesLimit) {
+    std::mt19937 rng(13);
+    std::uniform_int_distribution<int> shear(-90, 90), offset(-(1 << 22), 1 << 22);
+    std::uniform_int_distribution<int> pick(0, 3), axis(0, 2), near_zero(-3, 3);
+    int decided = 0, decided_2d = 0;
+    for (int i = 0; i < 20000; ++i) {
+        glm::dvec3 p[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+        if (i % 5 == 0) p[3] = {1, 1, 0};         // flat: determinant 0
+        for (int round = 0; round < 3; ++round) { // x += n y, y += n z, z += n x: determinant 1
+            const double n[3] = {double(shear(rng)), double(shear(rng)), double(shear(rng))};
+            for (glm::dvec3& q : p) {
+                q.x += n[0] * q.y;
+                q.y += n[1] * q.z;
+                q.z += n[2] * q.x;
+            }
+        }
+        glm::dvec3 move(offset(rng), offset(rng), offset(rng));
+        const int k = pick(rng), a = axis(rng);
+        if (i % 2 == 0) move[a] = near_zero(rng) - p[k][a]; // p[k] a few steps from zero on a
+        V q[4];
+        bool on_grid = true;
+        for (int j = 0; j < 4; ++j)
+            for (int c = 0; c < 3; ++c) {
+                const double units = p[j][c] + move[c];
+                q[j][c] = float(units * kGrid);
+                on_grid = on_grid && double(q[j][c]) == units * kGrid && std::abs(units) < 0x1p40;
+            }
+        if (!on_grid) continue; // a coordinate beyond a float's 24 bits
+        const int expected = exact_orient3d(q[0], q[1], q[2], q[3]);
+        ASSERT_EQ(orient3d(q[0], q[1], q[2], q[3]), expected) << i;
+        ASSERT_EQ(orient3d(q[3], q[2], q[1], q[0]), expected) << i; // two swaps: the same sign
+        decided += expected != 0;
+        // The same in the plane: a lattice triangle of area 1/2 (or a flat one), sheared.
+        glm::dvec2 t[3] = {{0, 0}, {1, 0}, {0, 1}};
+        if (i % 5 == 0) t[2] = {2, 0};
+        for (int round = 0; round < 3; ++round) { // x += n y, y += n x, x += n y
+            const double n = shear(rng);
+            for (glm::dvec2& r : t) r[round % 2] += n * r[1 - round % 2];
+        }
+        glm::vec2 u[3];
+        for (int j = 0; j < 3; ++j)
+            for (int c = 0; c < 2; ++c) {
+                const double units = t[j][c] + move[c];
+                u[j][c] = float(units * kGrid);
+                on_grid = on_grid && double(u[j][c]) == units * kGrid;
+            }
+        if (!on_grid) continue;
+        const int expected_2d = -exact_orient3d(V(u[0], 0), V(u[1], 0), V(u[2], 0), V(0, 0, 1));
+        ASSERT_EQ(orient2d(u[0], u[1], u[2]), expected_2d) << i; // above z = 0: orient3d flips
+        decided_2d += expected_2d != 0;
+    }
+    EXPECT_GT(decided, 5000);
+    EXPECT_GT(decided_2d, 5000);
+}
+
 TEST(Orient, ExactWhereDifferencesNeedTwoDoubles) {
     // Corners 2^60 times apart: a - d does not fit one double (its lo part is not zero), and the
     // filter's error bound dwarfs the determinant, so the exact sum decides with every part.
