@@ -112,7 +112,9 @@ TEST(Orient, ExactAcrossTheIntegerStagesLimit) {
         ASSERT_EQ(orient3d(q[0], q[1], q[2], q[3]), expected) << i;
         ASSERT_EQ(orient3d(q[3], q[2], q[1], q[0]), expected) << i; // two swaps: the same sign
         decided += expected != 0;
-        // The same in the plane: a lattice triangle of area 1/2 (or a flat one), sheared.
+        // The same in the plane: a lattice triangle of area 1/2 (or a flat one), sheared. Products
+        // of two floats' differences are exact in double, so the filter settles all but the flat
+        // ones, which reach the exact stage and must come out 0.
         glm::dvec2 t[3] = {{0, 0}, {1, 0}, {0, 1}};
         if (i % 5 == 0) t[2] = {2, 0};
         for (int round = 0; round < 3; ++round) { // x += n y, y += n x, x += n y
