@@ -83,4 +83,13 @@ std::vector<std::uint8_t> sliver_apexes(const SurfaceNet& net, TriangulationRule
 glm::vec3 sliver_relief(const SurfaceNet& net, TriangulationRule rule, glm::vec3 shape,
                         std::span<const glm::vec3> positions, std::uint32_t node);
 
+namespace detail {
+
+// The guard's cheap first test of a triangle: true only where its smallest / largest angle ratio
+// is at least kSliverQuality, shown without an angle (false: measure it with triangle_shape).
+// Exposed so that tests can check that it never passes a sliver.
+bool surely_no_sliver(glm::vec3 a, glm::vec3 b, glm::vec3 c);
+
+} // namespace detail
+
 } // namespace snert

@@ -6,6 +6,8 @@
 #include <map>
 #include <random>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "core/mesh_guard.h"
 #include "core/metrics.h"
 #include "core/phantom.h"
@@ -521,6 +523,68 @@ TEST(MeshGuard, SliverApexesAreTheObtuseCornersOfTheSlivers) {
         }
     }
     EXPECT_GT(apexes, 100u);
+}
+
+// A triangle with angles alpha at a and beta at b (degrees), its longest side about `size`, turned
+// and moved off the origin so that its float corners round.
+static std::array<glm::vec3, 3> triangle_of_angles(double alpha, double beta, double size,
+                                                   glm::dvec3 at) {
+    constexpr double kDegree = 3.14159265358979323846 / 180.0;
+    const double gamma = 180.0 - alpha - beta;
+    const double ab =
+        size * std::sin(gamma * kDegree) /
+        std::max({std::sin(alpha * kDegree), std::sin(beta * kDegree), std::sin(gamma * kDegree)});
+    const double ac = ab * std::sin(beta * kDegree) / std::sin(gamma * kDegree);
+    const glm::dvec3 c(ac * std::cos(alpha * kDegree), ac * std::sin(alpha * kDegree), 0.0);
+    const glm::dmat3 turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(1, 2, 3)));
+    return {glm::vec3(at), glm::vec3(at + turn * glm::dvec3(ab, 0, 0)), glm::vec3(at + turn * c)};
+}
+
+// The guard's first test passes a triangle only where its quality is surely 0.1 or more: never a
+// sliver, also at the limits of its three cases (a largest angle up to 90 degrees, up to 120, any
+// other), at any size and place; and it passes the fair triangles whose smallest angle is under
+// 18 degrees, which the exact measure would otherwise take.
+TEST(MeshGuard, FirstTestPassesNoSliver) {
+    std::size_t passed = 0, fair_under_18 = 0, passed_under_18 = 0;
+    for (const double size : {1e-3, 0.3, 1.0, 40.0})
+        for (const glm::dvec3 at : {glm::dvec3(0.0), glm::dvec3(-170.5, 230.25, 95.125)})
+            for (double alpha = 0.25; alpha < 60.0; alpha += 0.35)
+                for (double beta = alpha; beta <= 180.0 - 2.0 * alpha; beta += 0.45) {
+                    const auto [a, b, c] = triangle_of_angles(alpha, beta, size, at);
+                    const float quality = triangle_shape(a, b, c).quality;
+                    const bool pass = detail::surely_no_sliver(a, b, c);
+                    // The test is the same in every corner order.
+                    EXPECT_EQ(detail::surely_no_sliver(b, c, a), pass);
+                    EXPECT_EQ(detail::surely_no_sliver(c, b, a), pass);
+                    if (pass) {
+                        EXPECT_GE(quality, float(kSliverQuality))
+                            << alpha << " " << beta << " size " << size;
+                        ++passed;
+                    }
+                    if (alpha < 18.0 && quality >= 0.11f) {
+                        ++fair_under_18;
+                        passed_under_18 += pass ? 1 : 0;
+                    }
+                }
+    EXPECT_GT(passed, 10000u);
+    EXPECT_GT(passed_under_18, fair_under_18 * 3 / 4);
+    // At each case's limit: a tenth of a degree of margin, and a sliver just under 0.1 kept out.
+    const auto passes = [](double alpha, double beta) {
+        const auto [a, b, c] = triangle_of_angles(alpha, beta, 1.0, glm::dvec3(3.0, -2.0, 7.0));
+        return detail::surely_no_sliver(a, b, c);
+    };
+    EXPECT_TRUE(passes(9.2, 85.0));   // largest 85.8
+    EXPECT_FALSE(passes(9.0, 81.0));  // largest 90, quality 0.1, no margin
+    EXPECT_FALSE(passes(8.9, 81.1));  // largest 90, a sliver (0.099)
+    EXPECT_TRUE(passes(12.2, 48.0));  // largest 119.8
+    EXPECT_FALSE(passes(11.9, 48.1)); // largest 120, a sliver (0.099)
+    EXPECT_TRUE(passes(15.2, 15.2));  // largest 149.6
+    EXPECT_FALSE(passes(14.9, 15.1)); // largest 150, a sliver (0.0993)
+    // No area: degenerate to the exact measure (quality 0), so never passed.
+    const glm::vec3 p(1.5f, -2.0f, 0.25f), q(2.0f, 1.0f, 0.5f);
+    EXPECT_FALSE(detail::surely_no_sliver(p, p, q));
+    EXPECT_FALSE(detail::surely_no_sliver(p, p, p));
+    EXPECT_EQ(triangle_shape(p, p, q).quality, 0.0f);
 }
 
 TEST(MeshGuard, SliverReliefLiftsTheObtuseCornerOfACap) {
