@@ -267,6 +267,47 @@ glm::vec3 cross_of(const glm::vec3& u, const glm::vec3& v) {
     return {u.y * v.z - v.y * u.z, u.z * v.x - v.z * u.x, u.x * v.y - v.x * u.y};
 }
 
+// A node's star as the star test reads it, fixed for the net and so worked out once: 0 when the
+// pair tests decide (see quad_star_is_embedded), else, for the k-th quad of the closed fan
+// around the node, kStarCodeBits bits from bit kStarCodeBits * k: its place in the node's star
+// (3 bits) and the node's corner in it (2 bits); bit 30 set. Chaining the fan every step took
+// a tenth of the test's time (a search with a branch a comparison).
+constexpr int kStarCodeBits = 5;
+constexpr std::uint32_t kStarCoded = std::uint32_t(1) << 30;
+std::uint32_t star_code(const SurfaceNet& net, std::uint32_t node) {
+    const std::uint32_t first = net.star_offsets[node], size = net.star_offsets[node + 1] - first;
+    if (size < 3 || size > 6) return 0;
+    int at[6];
+    std::uint32_t next[6], prev[6];
+    for (std::uint32_t k = 0; k < size; ++k) {
+        const std::uint32_t id = net.star[first + k];
+        if (id >= net.quads.size()) return 0; // a fixed triangle
+        const std::array<std::uint32_t, 4>& c = net.quads[id];
+        at[k] = -1;
+        for (int i = 0; i < 4; ++i)
+            if (c[std::size_t(i)] == node) at[k] = i;
+        if (at[k] < 0) return 0;
+        next[k] = c[std::size_t((at[k] + 1) & 3)];
+        prev[k] = c[std::size_t((at[k] + 3) & 3)];
+    }
+    // Around a node inside the surface the quads chain up into one closed fan: the quad after
+    // one is the one whose `next` is its `prev` (they share that edge, wound oppositely).
+    std::uint32_t order[6] = {0};
+    unsigned used = 1;
+    for (std::uint32_t k = 1; k < size; ++k) {
+        std::uint32_t j = 0;
+        while (j < size && ((used >> j & 1u) != 0 || next[j] != prev[order[k - 1]])) ++j;
+        if (j == size) return 0;
+        used |= 1u << j;
+        order[k] = j;
+    }
+    if (next[order[0]] != prev[order[size - 1]]) return 0;
+    std::uint32_t code = kStarCoded;
+    for (std::uint32_t k = 0; k < size; ++k)
+        code |= (order[k] | std::uint32_t(at[order[k]]) << 3) << (kStarCodeBits * k);
+    return code;
+}
+
 // True when the triangles of `node`'s star (its polygons split as `along_ac` says) certainly
 // meet only in shared corners and edges, shown without testing pairs: projected along the
 // star's mean normal, every triangle keeps its orientation and the star's rim turns once around
@@ -276,47 +317,30 @@ glm::vec3 cross_of(const glm::vec3& u, const glm::vec3& v) {
 // would find nothing. Decided in float with a wide margin; false when unsure, and the pairs are
 // tested. On a smooth surface this settles nearly every cell.
 //
-// Only for a closed star of N quads, 3 <= N <= 6: 99.4-99.6 % of the nodes of the CT's nets at
-// 200 and -500 (a node on the volume border, a non-manifold one, a star with a fixed triangle
-// or an unusually large one gets the pair tests). Runs for every node of every step, so the
-// loops have a fixed length and the corners' products are formed coordinate by coordinate,
-// several corners at once, the tests' results joined without branches.
+// Only for a closed star of N quads, 3 <= N <= 6 (`code`, star_code's): 99.4-99.6 % of the
+// nodes of the CT's nets at 200 and -500 (a node on the volume border, a non-manifold one, a star
+// with a fixed triangle or an unusually large one gets the pair tests). Runs for every node of
+// every step, so the loops have a fixed length and the corners' products are formed coordinate by
+// coordinate, several corners at once, the tests' results joined without branches.
 template <int N>
 bool quad_star_is_embedded(const SurfaceNet& net, std::uint32_t node, std::uint32_t first,
-                           const std::vector<std::uint8_t>& along_ac,
+                           std::uint32_t code, const std::vector<std::uint8_t>& along_ac,
                            std::span<const glm::vec3> p) {
     constexpr int kRim = 2 * N; // each quad's corner after the node and the opposite one
-    // Each quad seen from the node: the corner after it in winding order (`next`), the opposite
-    // one and the one before it (`prev`); the a-c split passes through the node when it is the
+    // Each quad seen from the node, in the fan's order (star_code): the corner after it in winding
+    // order (`next`) and the opposite one; the a-c split passes through the node when it is the
     // quad's corner a or c.
-    std::uint32_t id[N], next[N], opposite[N], prev[N];
+    std::uint32_t id[N], next[N], opposite[N];
     bool on_ac[N];
     for (int k = 0; k < N; ++k) {
-        id[k] = net.star[first + std::uint32_t(k)];
-        const std::array<std::uint32_t, 4> c = net.quads[id[k]];
-        int at = -1;
-        for (int i = 0; i < 4; ++i)
-            if (c[std::size_t(i)] == node) at = i;
-        if (at < 0) return false;
-        next[k] = c[std::size_t((at + 1) & 3)];
-        opposite[k] = c[std::size_t((at + 2) & 3)];
-        prev[k] = c[std::size_t((at + 3) & 3)];
+        const unsigned slot = code >> (kStarCodeBits * k) & 7u,
+                       at = code >> (kStarCodeBits * k + 3) & 3u;
+        id[k] = net.star[first + slot];
+        const std::array<std::uint32_t, 4>& c = net.quads[id[k]];
+        next[k] = c[(at + 1) & 3u];
+        opposite[k] = c[(at + 2) & 3u];
         on_ac[k] = at % 2 == 0;
     }
-    // Around a node inside the surface the quads chain up into one closed fan: the quad after
-    // one is the one whose `next` is its `prev` (they share that edge, wound oppositely).
-    int order[N];
-    order[0] = 0;
-    unsigned used = 1;
-    for (int k = 1; k < N; ++k) {
-        int found = -1;
-        for (int j = 0; j < N && found < 0; ++j)
-            if (!(used >> j & 1u) && next[j] == prev[order[k - 1]]) found = j;
-        if (found < 0) return false;
-        used |= 1u << found;
-        order[k] = found;
-    }
-    if (next[order[0]] != prev[order[N - 1]]) return false;
 
     // The rim: corner 2k is quad k's `next`, 2k + 1 its opposite, 2k + 2 its `prev`; from the
     // node, one array a coordinate.
@@ -324,9 +348,8 @@ bool quad_star_is_embedded(const SurfaceNet& net, std::uint32_t node, std::uint3
     float rx[kRim], ry[kRim], rz[kRim];
     bool through_node[N];
     for (int k = 0; k < N; ++k) {
-        const int f = order[k];
-        through_node[k] = (along_ac[id[f]] != 0) == on_ac[f];
-        const glm::vec3 a = p[next[f]] - centre, b = p[opposite[f]] - centre;
+        through_node[k] = (along_ac[id[k]] != 0) == on_ac[k];
+        const glm::vec3 a = p[next[k]] - centre, b = p[opposite[k]] - centre;
         rx[2 * k] = a.x, ry[2 * k] = a.y, rz[2 * k] = a.z;
         rx[2 * k + 1] = b.x, ry[2 * k + 1] = b.y, rz[2 * k + 1] = b.z;
     }
@@ -426,24 +449,35 @@ bool quad_star_is_embedded(const SurfaceNet& net, std::uint32_t node, std::uint3
 // Not inlined: in the guard's loop over the cells, the arrays of its four versions (up to a
 // kilobyte each) joined the loop's own frame, and a step took 10 % longer than with the calls.
 [[gnu::noinline]] bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
+                                        std::uint32_t code,
                                         const std::vector<std::uint8_t>& along_ac,
                                         std::span<const glm::vec3> p) {
-    const std::uint32_t first = net.star_offsets[node], size = net.star_offsets[node + 1] - first;
-    if (size < 3 || size > 6) return false;
-    bool quads = true;
-    for (std::uint32_t k = 0; k < size; ++k) quads &= net.star[first + k] < net.quads.size();
-    if (!quads) return false;
-    switch (size) {
+    const std::uint32_t first = net.star_offsets[node];
+    switch (net.star_offsets[node + 1] - first) {
     case 3:
-        return quad_star_is_embedded<3>(net, node, first, along_ac, p);
+        return quad_star_is_embedded<3>(net, node, first, code, along_ac, p);
     case 4:
-        return quad_star_is_embedded<4>(net, node, first, along_ac, p);
+        return quad_star_is_embedded<4>(net, node, first, code, along_ac, p);
     case 5:
-        return quad_star_is_embedded<5>(net, node, first, along_ac, p);
+        return quad_star_is_embedded<5>(net, node, first, code, along_ac, p);
     default:
-        return quad_star_is_embedded<6>(net, node, first, along_ac, p);
+        return quad_star_is_embedded<6>(net, node, first, code, along_ac, p);
     }
 }
+
+} // namespace
+
+bool detail::star_surely_embedded(const SurfaceNet& net, std::uint32_t node,
+                                  const std::vector<std::uint8_t>& along_ac,
+                                  std::span<const glm::vec3> world) {
+    if (node >= net.node_count() || net.star_offsets.size() != net.node_count() + 1 ||
+        along_ac.size() != net.quads.size() || world.size() != net.node_count())
+        throw std::invalid_argument("star test: a net, a split a quad and a point a node expected");
+    const std::uint32_t code = star_code(net, node);
+    return code != 0 && star_is_embedded(net, node, code, along_ac, world);
+}
+
+namespace {
 
 int shared_corners(const Triangle& a, const Triangle& b) {
     int shared = 0;
@@ -708,6 +742,8 @@ struct MeshGuardScratch::Impl {
     std::size_t net_nodes = 0, net_polygons = 0; // the net's size when it was taken
     std::vector<std::uint32_t> cell_starts;
     std::vector<std::pair<glm::ivec3, std::uint32_t>> copies;
+    // Per cell: star_code of its node when it holds one alone, else 0 (its pairs are tested).
+    std::vector<std::uint32_t> star_codes;
     std::vector<std::uint32_t> cell_of; // node -> cell (index of cell_starts), made when needed
     std::vector<glm::vec3> new_world;
     std::vector<std::uint8_t> changed, refused, shortened, along_ac, old_along_ac;
@@ -764,6 +800,14 @@ void MeshGuardScratch::Impl::use_net(const SurfaceNet& n) {
     }
     std::sort(copies.begin(), copies.end(), [&](const auto& a, const auto& b) {
         return cell_less(a.first, b.first) || (a.first == b.first && a.second < b.second);
+    });
+    detail::assign_on_huge_pages(star_codes, cell_starts.size(), 0u);
+    for_each_chunk(cell_starts.size(), 4096, [&](std::size_t, std::size_t b, std::size_t e) {
+        std::vector<std::uint32_t> members;
+        for (std::size_t c = b; c < e; ++c) {
+            cell_nodes(c, members);
+            star_codes[c] = members.size() == 1 ? star_code(n, members[0]) : 0;
+        }
     });
 }
 
@@ -855,10 +899,12 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
             std::vector<std::uint32_t> polygons, members, owner;
             std::vector<TriangleData> triangles;
             for (std::size_t i = b; i < e; ++i) {
-                s.cell_nodes(round == 0 ? i : dirty_cells[i], members);
-                // A cell of one node checks the pairs of that node's star only.
-                if (members.size() == 1 && star_is_embedded(net, members[0], along_ac, new_p.world))
+                const std::size_t cell = round == 0 ? i : dirty_cells[i];
+                if (const std::uint32_t code = s.star_codes[cell];
+                    code != 0 &&
+                    star_is_embedded(net, s.cell_starts[cell], code, along_ac, new_p.world))
                     continue;
+                s.cell_nodes(cell, members);
                 check_cell(net, members, along_ac, old_along_ac, old_p, new_p, changed, polygons,
                            triangles, owner, refused);
             }

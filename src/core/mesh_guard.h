@@ -90,6 +90,14 @@ namespace detail {
 // Exposed so that tests can check that it never passes a sliver.
 bool surely_no_sliver(glm::vec3 a, glm::vec3 b, glm::vec3 c);
 
+// The guard's test of a node's star, as a relaxation step runs it on a cell that holds the node
+// alone: true only where the star's triangles (its quads split as `along_ac` says, one flag a
+// quad) surely meet in nothing but shared corners and edges (false: the pairs are tested).
+// Exposed so that tests can check what it settles, which the guard's verdicts do not show.
+bool star_surely_embedded(const SurfaceNet& net, std::uint32_t node,
+                          const std::vector<std::uint8_t>& along_ac,
+                          std::span<const glm::vec3> world);
+
 } // namespace detail
 
 } // namespace snert

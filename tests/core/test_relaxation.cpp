@@ -714,7 +714,72 @@ std::vector<glm::vec3> star_positions(int quads, double turn, Height height) {
     return p;
 }
 
+// The net of star_net with its quads listed in another order (quad k becomes quad
+// order[k]) and each turned to start at another corner (quad k by k places): the same surface,
+// with the node's star in no particular order and the node at any corner of its quads.
+SurfaceNet shuffled_star_net(int quads, const std::vector<std::uint32_t>& order) {
+    const SurfaceNet plain = star_net(quads);
+    SurfaceNet net = plain;
+    for (std::size_t k = 0; k < plain.quads.size(); ++k) {
+        std::array<std::uint32_t, 4> q = plain.quads[k];
+        std::rotate(q.begin(), q.begin() + std::ptrdiff_t(k % 4), q.end());
+        net.quads[order[k]] = q;
+    }
+    std::vector<std::vector<std::uint32_t>> stars(plain.node_count());
+    for (std::uint32_t q = 0; q < net.quads.size(); ++q)
+        for (const std::uint32_t n : net.quads[q]) stars[n].push_back(q);
+    net.star.clear();
+    net.star_offsets = {0};
+    for (const auto& s : stars) {
+        net.star.insert(net.star.end(), s.begin(), s.end());
+        net.star_offsets.push_back(std::uint32_t(net.star.size()));
+    }
+    return net;
+}
+
 } // namespace
+
+// The star test settles a smooth star whatever the order of its quads and wherever the node sits
+// in them, with either split of every quad; it never settles a star wound twice (see below), nor
+// an open one.
+TEST(MeshGuard, StarTestSettlesSmoothStarsInAnyOrder) {
+    std::mt19937 random(7);
+    for (const int quads : {3, 4, 5, 6}) {
+        std::vector<std::uint32_t> order(static_cast<std::size_t>(quads));
+        for (std::uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+        for (int shuffle = 0; shuffle < 6; ++shuffle) {
+            std::shuffle(order.begin(), order.end(), random);
+            const SurfaceNet net = shuffled_star_net(quads, order);
+            const std::vector<glm::vec3> lifted =
+                star_positions(quads, 360.0, [](double angle) { return 0.2 * std::sin(angle); });
+            const std::vector<glm::vec3> twice = star_positions(
+                quads, 720.0, [](double angle) { return 0.3 * std::sin(angle / 2 + 0.8); });
+            for (const std::uint8_t split : {0, 1}) {
+                const std::vector<std::uint8_t> along_ac(net.quads.size(), split);
+                EXPECT_TRUE(detail::star_surely_embedded(net, 0, along_ac, lifted))
+                    << quads << " quads, split " << int(split);
+                EXPECT_FALSE(detail::star_surely_embedded(net, 0, along_ac, twice))
+                    << quads << " quads, split " << int(split);
+            }
+        }
+        // One quad fewer: the fan does not close around the node.
+        SurfaceNet open = star_net(quads);
+        open.quads.pop_back();
+        open.star.clear();
+        open.star_offsets = {0};
+        for (std::uint32_t n = 0; n < open.node_count(); ++n) {
+            for (std::uint32_t q = 0; q < open.quads.size(); ++q)
+                if (std::find(open.quads[q].begin(), open.quads[q].end(), n) != open.quads[q].end())
+                    open.star.push_back(q);
+            open.star_offsets.push_back(std::uint32_t(open.star.size()));
+        }
+        const std::vector<glm::vec3> flat =
+            star_positions(quads, 360.0, [](double) { return 0.0; });
+        EXPECT_FALSE(detail::star_surely_embedded(
+            open, 0, std::vector<std::uint8_t>(open.quads.size()), flat))
+            << quads << " quads";
+    }
+}
 
 // Every triangle of a star wound twice around its node turns the right way and stands upright,
 // yet its two turns cross each other (they cannot close up otherwise): the guard must see the
