@@ -260,15 +260,8 @@ double normal_cos(const Triangle& a, const Triangle& b, const Points& p) {
     return size > 0.0 ? glm::dot(na, nb) / size : 1.0;
 }
 
-// u x v, as glm::cross gives it, from the coordinates one by one. With glm's vec3 copies GCC
-// moved each vector through the stack in two pieces and read it back in others: the stalled
-// loads were a third of this file's time in a relaxation step.
-glm::vec3 cross_of(const glm::vec3& u, const glm::vec3& v) {
-    return {u.y * v.z - v.y * u.z, u.z * v.x - v.z * u.x, u.x * v.y - v.x * u.y};
-}
-
 // A node's star as the star test reads it, fixed for the net and so worked out once: 0 when the
-// pair tests decide (see quad_star_is_embedded), else, for the k-th quad of the closed fan
+// pair tests decide (see stars_are_embedded), else, for the k-th quad of the closed fan
 // around the node, kStarCodeBits bits from bit kStarCodeBits * k: its place in the node's star
 // (3 bits) and the node's corner in it (2 bits); bit 30 set. Chaining the fan every step took
 // a tenth of the test's time (a search with a branch a comparison).
@@ -308,162 +301,184 @@ std::uint32_t star_code(const SurfaceNet& net, std::uint32_t node) {
     return code;
 }
 
-// True when the triangles of `node`'s star (its polygons split as `along_ac` says) certainly
-// meet only in shared corners and edges, shown without testing pairs: projected along the
-// star's mean normal, every triangle keeps its orientation and the star's rim turns once around
-// the node, monotonically. Then the projection is one-to-one on the star (the rim is a
-// star-shaped polygon around the node and each polygon fills its own wedge of it), so no two
-// triangles can meet in space (nor fold: see upright below), and the pair tests of check_cell
-// would find nothing. Decided in float with a wide margin; false when unsure, and the pairs are
+// The star test runs on kStarLanes stars at once, one a lane of GCC's vector types (SSE on
+// x86-64): every operation of the test is then one instruction for all of them, with no shuffle.
+// Run on one star, its operations were spread over the rim's corners a few at a time, with the
+// corners' arrays copied and rotated between them: 70-78 ns a star on the CT's net at 200, 45 a
+// star four at a time (a driver, one thread). A lane's floats are worked out as one star alone
+// would work them out, so a lane's verdict does not depend on its neighbours.
+constexpr int kStarLanes = 4;
+using StarFloats = float __attribute__((vector_size(4 * kStarLanes)));
+using StarMask = int __attribute__((vector_size(4 * kStarLanes))); // 0 or -1 a lane
+
+// Lane by lane: -1 when the triangles of node `nodes[j]`'s star (its polygons split as
+// `along_ac` says) certainly meet only in shared corners and edges, shown without testing pairs:
+// projected along the star's mean normal, every triangle keeps its orientation and the star's rim
+// turns once around the node, monotonically. Then the projection is one-to-one on the star (the
+// rim is a star-shaped polygon around the node and each polygon fills its own wedge of it), so no
+// two triangles can meet in space (nor fold: see upright below), and the pair tests of check_cell
+// would find nothing. Decided in float with a wide margin; 0 when unsure, and the pairs are
 // tested. On a smooth surface this settles nearly every cell.
 //
-// Only for a closed star of N quads, 3 <= N <= 6 (`code`, star_code's): 99.4-99.6 % of the
+// Only for a closed star of N quads, 3 <= N <= 6 (`codes[j]`, star_code's): 99.4-99.6 % of the
 // nodes of the CT's nets at 200 and -500 (a node on the volume border, a non-manifold one, a star
-// with a fixed triangle or an unusually large one gets the pair tests). Runs for every node of
-// every step, so the loops have a fixed length and the corners' products are formed coordinate by
-// coordinate, several corners at once, the tests' results joined without branches.
+// with a fixed triangle or an unusually large one gets the pair tests). The tests' results are
+// joined without branches.
 template <int N>
-bool quad_star_is_embedded(const SurfaceNet& net, std::uint32_t node, std::uint32_t first,
-                           std::uint32_t code, const std::vector<std::uint8_t>& along_ac,
-                           std::span<const glm::vec3> p) {
-    constexpr int kRim = 2 * N; // each quad's corner after the node and the opposite one
-    // Each quad seen from the node, in the fan's order (star_code): the corner after it in winding
-    // order (`next`) and the opposite one; the a-c split passes through the node when it is the
-    // quad's corner a or c.
-    std::uint32_t id[N], next[N], opposite[N];
-    bool on_ac[N];
-    for (int k = 0; k < N; ++k) {
-        const unsigned slot = code >> (kStarCodeBits * k) & 7u,
-                       at = code >> (kStarCodeBits * k + 3) & 3u;
-        id[k] = net.star[first + slot];
-        const std::array<std::uint32_t, 4>& c = net.quads[id[k]];
-        next[k] = c[(at + 1) & 3u];
-        opposite[k] = c[(at + 2) & 3u];
-        on_ac[k] = at % 2 == 0;
+StarMask stars_are_embedded(const SurfaceNet& net, const std::uint32_t (&nodes)[kStarLanes],
+                            const std::uint32_t (&codes)[kStarLanes],
+                            const std::vector<std::uint8_t>& along_ac,
+                            std::span<const glm::vec3> p) {
+    constexpr int kRim = 2 * N;
+    // The rim from the node: corner 2k is the fan's quad k's corner after the node in winding
+    // order (`next`), 2k + 1 its opposite corner, 2k + 2 the next quad's `next`, which is this
+    // one's corner before the node. `through[k]`: quad k splits through the node (along its a-c
+    // diagonal with the node at a or c).
+    StarFloats rx[kRim], ry[kRim], rz[kRim];
+    StarMask through[N];
+    for (int j = 0; j < kStarLanes; ++j) {
+        const std::uint32_t node = nodes[j], code = codes[j], first = net.star_offsets[node];
+        const glm::vec3 centre = p[node];
+        for (int k = 0; k < N; ++k) {
+            const unsigned slot = code >> (kStarCodeBits * k) & 7u,
+                           at = code >> (kStarCodeBits * k + 3) & 3u;
+            const std::uint32_t id = net.star[first + slot];
+            const std::array<std::uint32_t, 4>& c = net.quads[id];
+            through[k][j] = (along_ac[id] != 0) == (at % 2 == 0) ? -1 : 0;
+            const glm::vec3 a = p[c[(at + 1) & 3u]] - centre, b = p[c[(at + 2) & 3u]] - centre;
+            rx[2 * k][j] = a.x, ry[2 * k][j] = a.y, rz[2 * k][j] = a.z;
+            rx[2 * k + 1][j] = b.x, ry[2 * k + 1][j] = b.y, rz[2 * k + 1][j] = b.z;
+        }
     }
-
-    // The rim: corner 2k is quad k's `next`, 2k + 1 its opposite, 2k + 2 its `prev`; from the
-    // node, one array a coordinate.
-    const glm::vec3 centre = p[node];
-    float rx[kRim], ry[kRim], rz[kRim];
-    bool through_node[N];
-    for (int k = 0; k < N; ++k) {
-        through_node[k] = (along_ac[id[k]] != 0) == on_ac[k];
-        const glm::vec3 a = p[next[k]] - centre, b = p[opposite[k]] - centre;
-        rx[2 * k] = a.x, ry[2 * k] = a.y, rz[2 * k] = a.z;
-        rx[2 * k + 1] = b.x, ry[2 * k + 1] = b.y, rz[2 * k + 1] = b.z;
-    }
-    // turns[k] = rim[k] x rim[k + 1]: the rim's turn from one corner to the next, and the normal
-    // of the triangle between them and the node (the two triangles of a quad split through the
-    // node).
-    float sx[kRim], sy[kRim], sz[kRim]; // rim[k + 1]
-    for (int k = 0; k < kRim; ++k)
-        sx[k] = rx[(k + 1) % kRim], sy[k] = ry[(k + 1) % kRim], sz[k] = rz[(k + 1) % kRim];
-    float tx[kRim], ty[kRim], tz[kRim];
+    // turn k = rim k x rim k + 1: the rim's turn from one corner to the next, and the normal of
+    // the triangle between them and the node (the two triangles of a quad split through it).
+    StarFloats tx[kRim], ty[kRim], tz[kRim];
     for (int k = 0; k < kRim; ++k) {
-        tx[k] = ry[k] * sz[k] - sy[k] * rz[k];
-        ty[k] = rz[k] * sx[k] - sz[k] * rx[k];
-        tz[k] = rx[k] * sy[k] - sx[k] * ry[k];
+        const int s = (k + 1) % kRim;
+        tx[k] = ry[k] * rz[s] - ry[s] * rz[k];
+        ty[k] = rz[k] * rx[s] - rz[s] * rx[k];
+        tz[k] = rx[k] * ry[s] - rx[s] * ry[k];
     }
-    // The triangles of a quad split through its `next` and `prev` instead: (node, next, prev)
-    // and (next, opposite, prev), normals next x prev and (opposite - next) x (prev - next).
-    // Formed for every quad, kept for those split so.
-    float ox[2][N], oy[2][N], oz[2][N];
-    {
-        float nx[N], ny[N], nz[N], qx[N], qy[N], qz[N], vx[N], vy[N], vz[N];
-        for (int k = 0; k < N; ++k) {
-            nx[k] = rx[2 * k], ny[k] = ry[2 * k], nz[k] = rz[2 * k];
-            qx[k] = rx[2 * k + 1], qy[k] = ry[2 * k + 1], qz[k] = rz[2 * k + 1];
-            const int v = (2 * k + 2) % kRim;
-            vx[k] = rx[v], vy[k] = ry[v], vz[k] = rz[v];
-        }
-        for (int k = 0; k < N; ++k) {
-            ox[0][k] = ny[k] * vz[k] - vy[k] * nz[k];
-            oy[0][k] = nz[k] * vx[k] - vz[k] * nx[k];
-            oz[0][k] = nx[k] * vy[k] - vx[k] * ny[k];
-            const float ax = qx[k] - nx[k], ay = qy[k] - ny[k], az = qz[k] - nz[k];
-            const float bx = vx[k] - nx[k], by = vy[k] - ny[k], bz = vz[k] - nz[k];
-            ox[1][k] = ay * bz - by * az;
-            oy[1][k] = az * bx - bz * ax;
-            oz[1][k] = ax * by - bx * ay;
-        }
-    }
-    // The star's normal: the sum of its triangles' normals, quad by quad in chain order.
-    glm::vec3 normal(0.0f);
+    // The triangles of a quad split through its `next` and its corner before the node instead:
+    // (node, next, before) and (next, opposite, before). Formed for every quad, kept for those
+    // split so.
+    StarFloats ox[2][N], oy[2][N], oz[2][N];
     for (int k = 0; k < N; ++k) {
-        if (through_node[k]) {
-            normal += glm::vec3(tx[2 * k], ty[2 * k], tz[2 * k]);
-            normal += glm::vec3(tx[2 * k + 1], ty[2 * k + 1], tz[2 * k + 1]);
-        } else {
-            normal +=
-                glm::vec3(ox[0][k], oy[0][k], oz[0][k]) + glm::vec3(ox[1][k], oy[1][k], oz[1][k]);
-        }
+        const int n = 2 * k, q = 2 * k + 1, v = (2 * k + 2) % kRim;
+        ox[0][k] = ry[n] * rz[v] - ry[v] * rz[n];
+        oy[0][k] = rz[n] * rx[v] - rz[v] * rx[n];
+        oz[0][k] = rx[n] * ry[v] - rx[v] * ry[n];
+        const StarFloats ax = rx[q] - rx[n], ay = ry[q] - ry[n], az = rz[q] - rz[n];
+        const StarFloats bx = rx[v] - rx[n], by = ry[v] - ry[n], bz = rz[v] - rz[n];
+        ox[1][k] = ay * bz - by * az;
+        oy[1][k] = az * bx - bz * ax;
+        oz[1][k] = ax * by - bx * ay;
     }
-    // The tests give 0 or 1 as 32-bit integers, the width of the floats they compare, joined
-    // with & and |: the loops below take four corners at a time, with no branch a test.
+    // The star's normal: the sum of its triangles' normals, quad by quad in the fan's order.
+    StarFloats nx{}, ny{}, nz{};
+    for (int k = 0; k < N; ++k) {
+        const StarMask t = through[k];
+        nx = t ? (nx + tx[2 * k]) + tx[2 * k + 1] : nx + (ox[0][k] + ox[1][k]);
+        ny = t ? (ny + ty[2 * k]) + ty[2 * k + 1] : ny + (oy[0][k] + oy[1][k]);
+        nz = t ? (nz + tz[2 * k]) + tz[2 * k + 1] : nz + (oz[0][k] + oz[1][k]);
+    }
     // positive(x, size2): x > 0 beyond float rounding, x being a product of vectors whose squared
     // sizes multiply to size2, and of the normal. Compared squared: no square roots.
     constexpr float kMargin2 = 1e-8f; // (1e-4)^2
-    const float normal2 = glm::dot(normal, normal);
-    const auto positive = [&](float x, float size2) {
-        return int(x > 0.0f) & int(x * x > kMargin2 * size2 * normal2);
+    const StarFloats normal2 = nx * nx + ny * ny + nz * nz;
+    const auto positive = [&](StarFloats x, StarFloats size2) {
+        return (x > 0.0f) & (x * x > kMargin2 * size2 * normal2);
     };
     // Every triangle within 85 degrees of the mean normal: then no two of them fold onto each
     // other (normals more than 170 degrees apart, kFoldCos), which the pair test refuses.
     constexpr float kCos85Squared = 0.00759612f;
-    const auto upright = [&](float x, float y, float z) {
-        const float along = x * normal.x + y * normal.y + z * normal.z;
-        const float size2 = x * x + y * y + z * z;
-        return int(positive(along, size2)) & int(along * along > kCos85Squared * size2 * normal2);
+    const auto upright = [&](StarFloats x, StarFloats y, StarFloats z) {
+        const StarFloats along = x * nx + y * ny + z * nz;
+        const StarFloats size2 = x * x + y * y + z * z;
+        return positive(along, size2) & (along * along > kCos85Squared * size2 * normal2);
     };
-    int turn_upright[kRim], other_upright[2][N];
-    for (int k = 0; k < kRim; ++k) turn_upright[k] = upright(tx[k], ty[k], tz[k]);
-    for (int s = 0; s < 2; ++s)
-        for (int k = 0; k < N; ++k) other_upright[s][k] = upright(ox[s][k], oy[s][k], oz[s][k]);
-    int embedded = 1;
+    StarMask embedded = through[0] | ~through[0]; // every lane -1
     for (int k = 0; k < N; ++k)
-        embedded &= through_node[k] ? turn_upright[2 * k] & turn_upright[2 * k + 1]
-                                    : other_upright[0][k] & other_upright[1][k];
-    if (!embedded) return false;
+        embedded &= through[k] ? upright(tx[2 * k], ty[2 * k], tz[2 * k]) &
+                                     upright(tx[2 * k + 1], ty[2 * k + 1], tz[2 * k + 1])
+                               : upright(ox[0][k], oy[0][k], oz[0][k]) &
+                                     upright(ox[1][k], oy[1][k], oz[1][k]);
     // Every turn of the rim is positive (under half a turn) ...
-    float rim2[kRim], next2[kRim];
+    StarFloats rim2[kRim];
     for (int k = 0; k < kRim; ++k) rim2[k] = rx[k] * rx[k] + ry[k] * ry[k] + rz[k] * rz[k];
-    for (int k = 0; k < kRim; ++k) next2[k] = sx[k] * sx[k] + sy[k] * sy[k] + sz[k] * sz[k];
     for (int k = 0; k < kRim; ++k)
-        embedded &=
-            positive(tx[k] * normal.x + ty[k] * normal.y + tz[k] * normal.z, rim2[k] * next2[k]);
-    if (!embedded) return false;
+        embedded &= positive(tx[k] * nx + ty[k] * ny + tz[k] * nz, rim2[k] * rim2[(k + 1) % kRim]);
     // ... and only the last one comes back to the first corner's direction: one turn in all.
-    // The turn from the first corner to corner k, (rim[0] x rim[k]) . normal, is
-    // rim[k] . (normal x rim[0]).
-    const glm::vec3 across = cross_of(normal, glm::vec3(rx[0], ry[0], rz[0]));
-    float turn_from_first[kRim];
-    for (int k = 0; k < kRim; ++k)
-        turn_from_first[k] = rx[k] * across.x + ry[k] * across.y + rz[k] * across.z;
+    // The turn from the first corner to corner k, (rim 0 x rim k) . normal, is
+    // rim k . (normal x rim 0).
+    const StarFloats ax = ny * rz[0] - ry[0] * nz, ay = nz * rx[0] - rz[0] * nx,
+                     az = nx * ry[0] - rx[0] * ny;
+    StarFloats turn_from_first[kRim];
+    for (int k = 0; k < kRim; ++k) turn_from_first[k] = rx[k] * ax + ry[k] * ay + rz[k] * az;
     for (int k = 1; k + 1 < kRim; ++k)
         embedded &= positive(turn_from_first[k], rim2[k] * rim2[0]) |
                     positive(-turn_from_first[k + 1], rim2[0] * rim2[k + 1]);
-    return embedded != 0;
+    return embedded;
 }
 
-// Not inlined: in the guard's loop over the cells, the arrays of its four versions (up to a
-// kilobyte each) joined the loop's own frame, and a step took 10 % longer than with the calls.
-[[gnu::noinline]] bool star_is_embedded(const SurfaceNet& net, std::uint32_t node,
-                                        std::uint32_t code,
-                                        const std::vector<std::uint8_t>& along_ac,
-                                        std::span<const glm::vec3> p) {
-    const std::uint32_t first = net.star_offsets[node];
-    switch (net.star_offsets[node + 1] - first) {
+// stars_are_embedded for stars of `quads` quads. Not inlined: in the guard's loop over the cells,
+// the arrays of its four versions joined the loop's own frame, and a step took longer.
+[[gnu::noinline]] StarMask stars_are_embedded(std::uint32_t quads, const SurfaceNet& net,
+                                              const std::uint32_t (&nodes)[kStarLanes],
+                                              const std::uint32_t (&codes)[kStarLanes],
+                                              const std::vector<std::uint8_t>& along_ac,
+                                              std::span<const glm::vec3> p) {
+    switch (quads) {
     case 3:
-        return quad_star_is_embedded<3>(net, node, first, code, along_ac, p);
+        return stars_are_embedded<3>(net, nodes, codes, along_ac, p);
     case 4:
-        return quad_star_is_embedded<4>(net, node, first, code, along_ac, p);
+        return stars_are_embedded<4>(net, nodes, codes, along_ac, p);
     case 5:
-        return quad_star_is_embedded<5>(net, node, first, code, along_ac, p);
+        return stars_are_embedded<5>(net, nodes, codes, along_ac, p);
     default:
-        return quad_star_is_embedded<6>(net, node, first, code, along_ac, p);
+        return stars_are_embedded<6>(net, nodes, codes, along_ac, p);
     }
 }
+
+// Cells waiting for the star test, gathered by their star's size until kStarLanes of one size
+// are there (or the cells run out: the lanes left are filled with the first cell again).
+class StarQueue {
+  public:
+    // Queues `cell` (node `node`, star_code `code`); calls unsure(c) for each cell c whose star
+    // the test could not settle, once a batch has run.
+    template <class Unsure>
+    void push(const SurfaceNet& net, std::uint32_t cell, std::uint32_t node, std::uint32_t code,
+              const std::vector<std::uint8_t>& along_ac, std::span<const glm::vec3> p,
+              Unsure&& unsure) {
+        const std::uint32_t size = net.star_offsets[node + 1] - net.star_offsets[node];
+        Batch& b = batches_[size - 3];
+        b.cells[b.count] = cell, b.nodes[b.count] = node, b.codes[b.count] = code;
+        if (++b.count == kStarLanes) run(net, size, along_ac, p, unsure);
+    }
+    template <class Unsure>
+    void finish(const SurfaceNet& net, const std::vector<std::uint8_t>& along_ac,
+                std::span<const glm::vec3> p, Unsure&& unsure) {
+        for (std::uint32_t size = 3; size <= 6; ++size)
+            if (batches_[size - 3].count > 0) run(net, size, along_ac, p, unsure);
+    }
+
+  private:
+    struct Batch {
+        std::uint32_t cells[kStarLanes], nodes[kStarLanes], codes[kStarLanes];
+        int count = 0;
+    };
+    template <class Unsure>
+    void run(const SurfaceNet& net, std::uint32_t size, const std::vector<std::uint8_t>& along_ac,
+             std::span<const glm::vec3> p, Unsure&& unsure) {
+        Batch& b = batches_[size - 3];
+        for (int j = b.count; j < kStarLanes; ++j) b.nodes[j] = b.nodes[0], b.codes[j] = b.codes[0];
+        const StarMask embedded = stars_are_embedded(size, net, b.nodes, b.codes, along_ac, p);
+        for (int j = 0; j < b.count; ++j)
+            if (embedded[j] == 0) unsure(b.cells[j]);
+        b.count = 0;
+    }
+    Batch batches_[4]; // stars of 3, 4, 5 and 6 quads
+};
 
 } // namespace
 
@@ -474,7 +489,11 @@ bool detail::star_surely_embedded(const SurfaceNet& net, std::uint32_t node,
         along_ac.size() != net.quads.size() || world.size() != net.node_count())
         throw std::invalid_argument("star test: a net, a split a quad and a point a node expected");
     const std::uint32_t code = star_code(net, node);
-    return code != 0 && star_is_embedded(net, node, code, along_ac, world);
+    if (code == 0) return false;
+    const std::uint32_t nodes[kStarLanes] = {node, node, node, node},
+                        codes[kStarLanes] = {code, code, code, code};
+    return stars_are_embedded(net.star_offsets[node + 1] - net.star_offsets[node], net, nodes,
+                              codes, along_ac, world)[0] != 0;
 }
 
 namespace {
@@ -898,16 +917,21 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
         for_each_chunk(cells, kChunk, [&](std::size_t, std::size_t b, std::size_t e) {
             std::vector<std::uint32_t> polygons, members, owner;
             std::vector<TriangleData> triangles;
-            for (std::size_t i = b; i < e; ++i) {
-                const std::size_t cell = round == 0 ? i : dirty_cells[i];
-                if (const std::uint32_t code = s.star_codes[cell];
-                    code != 0 &&
-                    star_is_embedded(net, s.cell_starts[cell], code, along_ac, new_p.world))
-                    continue;
+            const auto check_pairs = [&](std::size_t cell) {
                 s.cell_nodes(cell, members);
                 check_cell(net, members, along_ac, old_along_ac, old_p, new_p, changed, polygons,
                            triangles, owner, refused);
+            };
+            StarQueue stars;
+            for (std::size_t i = b; i < e; ++i) {
+                const std::uint32_t cell = round == 0 ? std::uint32_t(i) : dirty_cells[i];
+                if (const std::uint32_t code = s.star_codes[cell]; code != 0)
+                    stars.push(net, cell, s.cell_starts[cell], code, along_ac, new_p.world,
+                               check_pairs);
+                else
+                    check_pairs(cell);
             }
+            stars.finish(net, along_ac, new_p.world, check_pairs);
         });
         // Shorten the refused moves, and check again around them.
         moved.clear();

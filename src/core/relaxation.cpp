@@ -181,6 +181,28 @@ bool uses_grey(const GreyField* grey, const RelaxOptions& options, SubStep sub_s
     return terms;
 }
 
+// constrain_move's work, inlined into the node pass (see inner_box): a call a node, out of line.
+[[gnu::always_inline]] inline glm::vec3 move_in_box(glm::vec3 p, glm::vec3 move, glm::vec3 lo,
+                                                    glm::vec3 hi, Constraint constraint) {
+    if (!std::isfinite(move.x) || !std::isfinite(move.y) || !std::isfinite(move.z)) return p;
+    if (constraint == Constraint::Clip) return glm::clamp(p + move, lo, hi);
+    // Ray-box (eq. 2's c): the largest t in [0, 1] with p + t move inside the cell, so the node
+    // keeps its direction of motion and stops on the cell boundary. A flat box (a link node's
+    // face) takes only the move within it. Along each axis the face the move heads for gives the
+    // larger of the two quotients (the other is not positive, and rounding keeps the order), so
+    // there is no branch on the move's sign, which is random: its mispredictions were a sixth of
+    // a sub-step. A move of 0 along an axis (rare, so well predicted) sets no bound.
+    float t = 1.0f;
+    for (int a = 0; a < 3; ++a) {
+        if (!(hi[a] > lo[a])) move[a] = 0.0f;
+        const float reach = std::max((hi[a] - p[a]) / move[a], (lo[a] - p[a]) / move[a]);
+        if (move[a] != 0.0f) t = std::min(t, reach);
+    }
+    t = std::max(t, 0.0f);
+    // Rounding can put the end point a hair outside; clamping only removes that hair.
+    return glm::clamp(p + t * move, lo, hi);
+}
+
 } // namespace
 
 MoveTerms node_move_terms(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
@@ -249,7 +271,7 @@ void relax_sub_step(const SurfaceNet& net, const GreyField* grey, const RelaxOpt
                             .move;
                     const NodeBox box = inner_box(node_box(net, i), margin);
                     new_positions[i] =
-                        constrain_move(old_positions[i], move, box.lo, box.hi, options.constraint);
+                        move_in_box(old_positions[i], move, box.lo, box.hi, options.constraint);
                 }
             }
         });
@@ -273,23 +295,7 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::ivec3 cell, Constrain
 
 glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi,
                          Constraint constraint) {
-    if (!std::isfinite(move.x) || !std::isfinite(move.y) || !std::isfinite(move.z)) return p;
-    if (constraint == Constraint::Clip) return glm::clamp(p + move, lo, hi);
-    // Ray-box (eq. 2's c): the largest t in [0, 1] with p + t move inside the cell, so the node
-    // keeps its direction of motion and stops on the cell boundary. A flat box (a link node's
-    // face) takes only the move within it. Along each axis the face the move heads for gives the
-    // larger of the two quotients (the other is not positive, and rounding keeps the order), so
-    // there is no branch on the move's sign, which is random: its mispredictions were a sixth of
-    // a sub-step. A move of 0 along an axis (rare, so well predicted) sets no bound.
-    float t = 1.0f;
-    for (int a = 0; a < 3; ++a) {
-        if (!(hi[a] > lo[a])) move[a] = 0.0f;
-        const float reach = std::max((hi[a] - p[a]) / move[a], (lo[a] - p[a]) / move[a]);
-        if (move[a] != 0.0f) t = std::min(t, reach);
-    }
-    t = std::max(t, 0.0f);
-    // Rounding can put the end point a hair outside; clamping only removes that hair.
-    return glm::clamp(p + t * move, lo, hi);
+    return move_in_box(p, move, lo, hi, constraint);
 }
 
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,

@@ -20,12 +20,9 @@ float angle_at(glm::vec3 apex, glm::vec3 a, glm::vec3 b) {
 
 } // namespace
 
-bool quad_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d,
-                          TriangulationRule rule, glm::vec3 spacing) {
-    a *= spacing, b *= spacing, c *= spacing, d *= spacing;
-    if (rule == TriangulationRule::ShorterDiagonal)
-        return glm::dot(a - c, a - c) <= glm::dot(b - d, b - d);
-    // Delaunay: a-c is the locally Delaunay edge when the angles opposite it sum to at most pi.
+// Delaunay: a-c is the locally Delaunay edge when the angles opposite it sum to at most pi (the
+// corners in world units).
+bool detail::delaunay_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
     return angle_at(b, a, c) + angle_at(d, c, a) <= 3.14159265358979f;
 }
 
