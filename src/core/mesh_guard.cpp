@@ -263,10 +263,14 @@ double normal_cos(const Triangle& a, const Triangle& b, const Points& p) {
 // A node's star as the star test reads it, fixed for the net and so worked out once: 0 when the
 // pair tests decide (see stars_are_embedded), else, for the k-th quad of the closed fan
 // around the node, kStarCodeBits bits from bit kStarCodeBits * k: its place in the node's star
-// (3 bits) and the node's corner in it (2 bits); bit 30 set. Chaining the fan every step took
-// a tenth of the test's time (a search with a branch a comparison).
+// (3 bits) and the node's corner in it (2 bits); the fan's size less 3 from bit 30 (a code is
+// never 0: the second quad's place is not). Chaining the fan every step took a tenth of the
+// test's time (a search with a branch a comparison).
 constexpr int kStarCodeBits = 5;
-constexpr std::uint32_t kStarCoded = std::uint32_t(1) << 30;
+constexpr int kStarSizeShift = 30;
+std::uint32_t star_size(std::uint32_t code) {
+    return (code >> kStarSizeShift) + 3;
+}
 std::uint32_t star_code(const SurfaceNet& net, std::uint32_t node) {
     const std::uint32_t first = net.star_offsets[node], size = net.star_offsets[node + 1] - first;
     if (size < 3 || size > 6) return 0;
@@ -295,7 +299,7 @@ std::uint32_t star_code(const SurfaceNet& net, std::uint32_t node) {
         order[k] = j;
     }
     if (next[order[0]] != prev[order[size - 1]]) return 0;
-    std::uint32_t code = kStarCoded;
+    std::uint32_t code = (size - 3) << kStarSizeShift;
     for (std::uint32_t k = 0; k < size; ++k)
         code |= (order[k] | std::uint32_t(at[order[k]]) << 3) << (kStarCodeBits * k);
     return code;
@@ -450,7 +454,7 @@ class StarQueue {
     void push(const SurfaceNet& net, std::uint32_t cell, std::uint32_t node, std::uint32_t code,
               const std::vector<std::uint8_t>& along_ac, std::span<const glm::vec3> p,
               Unsure&& unsure) {
-        const std::uint32_t size = net.star_offsets[node + 1] - net.star_offsets[node];
+        const std::uint32_t size = star_size(code);
         Batch& b = batches_[size - 3];
         b.cells[b.count] = cell, b.nodes[b.count] = node, b.codes[b.count] = code;
         if (++b.count == kStarLanes) run(net, size, along_ac, p, unsure);
@@ -492,8 +496,7 @@ bool detail::star_surely_embedded(const SurfaceNet& net, std::uint32_t node,
     if (code == 0) return false;
     const std::uint32_t nodes[kStarLanes] = {node, node, node, node},
                         codes[kStarLanes] = {code, code, code, code};
-    return stars_are_embedded(net.star_offsets[node + 1] - net.star_offsets[node], net, nodes,
-                              codes, along_ac, world)[0] != 0;
+    return stars_are_embedded(star_size(code), net, nodes, codes, along_ac, world)[0] != 0;
 }
 
 namespace {
