@@ -445,7 +445,9 @@ StarMask stars_are_embedded(const SurfaceNet& net, const std::uint32_t (&nodes)[
 }
 
 // Cells waiting for the star test, gathered by their star's size until kStarLanes of one size
-// are there (or the cells run out: the lanes left are filled with the first cell again).
+// are there (or the cells run out: the lanes left are filled with the first cell again). The net,
+// the splits and the points are passed to each call: held as members, they were read again
+// through the queue after every store into its batches, and a step took a fifth longer.
 class StarQueue {
   public:
     // Queues `cell` (node `node`, star_code `code`); calls unsure(c) for each cell c whose star
@@ -494,8 +496,10 @@ bool detail::star_surely_embedded(const SurfaceNet& net, std::uint32_t node,
         throw std::invalid_argument("star test: a net, a split a quad and a point a node expected");
     const std::uint32_t code = star_code(net, node);
     if (code == 0) return false;
-    const std::uint32_t nodes[kStarLanes] = {node, node, node, node},
-                        codes[kStarLanes] = {code, code, code, code};
+    // The same star in every lane.
+    std::uint32_t nodes[kStarLanes], codes[kStarLanes];
+    std::fill(std::begin(nodes), std::end(nodes), node);
+    std::fill(std::begin(codes), std::end(codes), code);
     return stars_are_embedded(star_size(code), net, nodes, codes, along_ac, world)[0] != 0;
 }
 

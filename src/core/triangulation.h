@@ -40,7 +40,7 @@ bool delaunay_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d
 } // namespace detail
 
 // True when the quad a b c d (index space) splits along a-c under `rule`. Inline: the guard asks
-// it for every quad of every step, twice, and the shorter diagonal is a few products (the call
+// it for every quad of every step, and the shorter diagonal is a few products (the call
 // and its twelve floats' passing took longer).
 inline bool quad_splits_along_ac(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d,
                                  TriangulationRule rule, glm::vec3 spacing) {
