@@ -31,6 +31,7 @@
 #include "huge_pages.h"
 #include "input_error.h"
 #include "parallel.h"
+#include "prefetch.h"
 #include "scratch_pool.h"
 #include "step_progress.h"
 #include "vector_angle.h"
@@ -338,18 +339,6 @@ constexpr std::size_t kSlabsPerChunk = 8;
 // Rows ahead that prefetch_crossings works: about a memory latency of work.
 constexpr int kPrefetchRows = 4;
 
-// A prefetch that the compiler keeps: GCC deletes a loop whose only effect is
-// __builtin_prefetch (C++ lets it assume such a loop does nothing).
-inline void prefetch(const float* p) {
-#if defined(__GNUC__) && defined(__x86_64__)
-    __asm__ volatile("prefetcht0 %0" : : "m"(*p));
-#elif defined(__GNUC__)
-    __builtin_prefetch(p);
-#else
-    (void)p;
-#endif
-}
-
 class Extractor {
   public:
     Extractor(const Volume& volume, const MarchingCubesOptions& options, const Progress& progress)
@@ -552,8 +541,8 @@ class Extractor {
         for (int w = 0; w < words_; ++w) {
             const RowEdges e = row_edges(y, z, w);
             for_each_bit(z_edges ? e.z : e.x | e.y, w, [&](int x) {
-                prefetch(s + x);
-                prefetch(s + x + other);
+                detail::prefetch(s + x);
+                detail::prefetch(s + x + other);
             });
         }
     }
