@@ -449,35 +449,57 @@ StarMask stars_are_embedded(const SurfaceNet& net, const std::uint32_t (&nodes)[
 // nodes moved back), in increasing order: neighbours in a list rarely share quads or corners, the
 // hardware's prefetchers cannot guess the next, and every read waited on memory. On the CT at 200
 // a late step's later rounds took 4 times the first round's time a cell and 11 times its time a
-// polygon. So each loop over such a list asks for the quad of the item kQuadAhead ahead, and for
-// what it reads of the corners of the item kCornersAhead ahead, which that quad gives by then.
-constexpr std::size_t kQuadAhead = 8, kCornersAhead = 4;
+// polygon. So each loop over such a list asks ahead in stages, kStageAhead items apart: for the
+// farthest item what leads to its data (a node's star offsets, then its star, then a polygon's
+// quad), and for nearer ones the data that the stage before has brought by then.
+constexpr std::size_t kStageAhead = 4;
 
-// For the list of polygons `ids` at i (< end): `corner_data(corner)` asks for a corner's data.
+// For the list of polygons `ids` at i (< end): the quad two stages ahead, and through
+// `corner_data(corner)` what the loop reads of the corners one stage ahead.
 template <class CornerData>
 void prefetch_polygons_ahead(const SurfaceNet& net, std::span<const std::uint32_t> ids,
                              std::size_t i, std::size_t end, CornerData&& corner_data) {
-    if (i + kQuadAhead < end && ids[i + kQuadAhead] < net.quads.size())
-        detail::prefetch(&net.quads[ids[i + kQuadAhead]]);
-    if (i + kCornersAhead < end && ids[i + kCornersAhead] < net.quads.size())
-        for (const std::uint32_t corner : net.quads[ids[i + kCornersAhead]]) corner_data(corner);
+    if (const std::size_t far = i + 2 * kStageAhead; far < end && ids[far] < net.quads.size())
+        detail::prefetch(&net.quads[ids[far]]);
+    if (const std::size_t near = i + kStageAhead; near < end && ids[near] < net.quads.size())
+        for (const std::uint32_t corner : net.quads[ids[near]]) corner_data(corner);
 }
 
-// For the list of cells `cells` at i (< end), whose nodes `cell_starts` gives: the quads of the
-// star of the node ahead, and the points `p` of the quads' corners, as the star test reads them.
+// For the list of nodes `nodes` at i (< end): their stars' offsets two stages ahead, and the
+// stars themselves one stage ahead.
+void prefetch_node_stars_ahead(const SurfaceNet& net, std::span<const std::uint32_t> nodes,
+                               std::size_t i, std::size_t end) {
+    if (const std::size_t far = i + 2 * kStageAhead; far < end)
+        detail::prefetch(&net.star_offsets[nodes[far]]);
+    if (const std::size_t near = i + kStageAhead; near < end)
+        if (const std::uint32_t k = net.star_offsets[nodes[near]]; k < net.star.size())
+            detail::prefetch(&net.star[k]);
+}
+
+// For the list of cells `cells` at i (< end), whose nodes `cell_starts` gives, what the star test
+// reads of each node's star: its offsets and its star four and three stages ahead, the star's
+// quads two stages ahead and their corners' points `p` one stage ahead.
 void prefetch_stars_ahead(const SurfaceNet& net, std::span<const std::uint32_t> cell_starts,
                           std::span<const std::uint32_t> cells, std::size_t i, std::size_t end,
                           std::span<const glm::vec3> p) {
-    const auto star = [&](std::size_t ahead) {
-        const std::uint32_t node = cell_starts[cells[i + ahead]];
-        return std::span<const std::uint32_t>(net.star).subspan(
-            net.star_offsets[node], net.star_offsets[node + 1] - net.star_offsets[node]);
+    const auto node = [&](std::size_t stages) {
+        return cell_starts[cells[i + stages * kStageAhead]];
     };
-    if (i + kQuadAhead < end)
-        for (const std::uint32_t id : star(kQuadAhead))
+    const auto star = [&](std::size_t stages) {
+        const std::uint32_t n = node(stages);
+        return std::span<const std::uint32_t>(net.star).subspan(
+            net.star_offsets[n], net.star_offsets[n + 1] - net.star_offsets[n]);
+    };
+    const auto ahead = [&](std::size_t stages) { return i + stages * kStageAhead < end; };
+    if (ahead(4)) detail::prefetch(&net.star_offsets[node(4)]);
+    if (ahead(3))
+        if (const std::uint32_t k = net.star_offsets[node(3)]; k < net.star.size())
+            detail::prefetch(&net.star[k]);
+    if (ahead(2))
+        for (const std::uint32_t id : star(2))
             if (id < net.quads.size()) detail::prefetch(&net.quads[id]);
-    if (i + kCornersAhead < end)
-        for (const std::uint32_t id : star(kCornersAhead))
+    if (ahead(1))
+        for (const std::uint32_t id : star(1))
             if (id < net.quads.size())
                 for (const std::uint32_t corner : net.quads[id]) detail::prefetch(&p[corner]);
 }
@@ -1007,14 +1029,16 @@ std::size_t keep_mesh_valid(const SurfaceNet& net, TriangulationRule rule, glm::
         changed_ids.clear();
         // The polygons around the moved nodes and then their cells are flagged on every thread
         // (each flag is only ever set, so the order does not matter) and listed in increasing
-        // order: these gathers wait on memory at every polygon and corner, 7 ms of a step on
-        // one thread.
+        // order. These gathers asked for one sparse polygon or node after another and waited
+        // on memory at each (7 ms of a step on one thread): they ask ahead, as above.
         constexpr std::size_t kGatherChunk = 512;
         for_each_chunk(moved.size(), kGatherChunk, [&](std::size_t, std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i)
+            for (std::size_t i = b; i < e; ++i) {
+                prefetch_node_stars_ahead(net, moved, i, e);
                 for (std::uint32_t k = net.star_offsets[moved[i]];
                      k < net.star_offsets[moved[i] + 1]; ++k)
                     mark(changed, net.star[k]);
+            }
         });
         list_set_flags(changed, changed_ids, false);
         if (changed_ids.empty()) {
