@@ -298,6 +298,29 @@ glm::vec3 constrain_move(glm::vec3 p, glm::vec3 move, glm::vec3 lo, glm::vec3 hi
     return move_in_box(p, move, lo, hi, constraint);
 }
 
+namespace {
+
+// The largest distance between old and new positions, chunk by chunk on every thread: on the
+// calling thread alone it was 1.5 ms of a step on the CT at 200, a fortieth of a step on two
+// threads. The largest of the chunks' largest is the same whichever thread took which chunk.
+float largest_move(std::span<const glm::vec3> old_positions,
+                   std::span<const glm::vec3> new_positions) {
+    constexpr std::size_t kChunk = std::size_t(1) << 16;
+    std::vector<float> largest(chunk_count(old_positions.size(), kChunk), 0.0f);
+    for_each_chunk(old_positions.size(), kChunk,
+                   [&](std::size_t chunk, std::size_t b, std::size_t e) {
+                       float m = 0.0f;
+                       for (std::size_t i = b; i < e; ++i)
+                           m = std::max(m, glm::length(new_positions[i] - old_positions[i]));
+                       largest[chunk] = m;
+                   });
+    float m = 0.0f;
+    for (const float chunk_largest : largest) m = std::max(m, chunk_largest);
+    return m;
+}
+
+} // namespace
+
 float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
                  int iteration, std::span<const glm::vec3> old_positions,
                  std::span<glm::vec3> new_positions, std::size_t* shortened,
@@ -329,10 +352,7 @@ float relax_step(const SurfaceNet& net, const GreyField* grey, const RelaxOption
                                                       old_positions, new_positions, scratch)
                                     : 0;
     if (shortened != nullptr) *shortened = refused;
-    float max_move = 0.0f;
-    for (std::size_t i = 0; i < old_positions.size(); ++i)
-        max_move = std::max(max_move, glm::length(new_positions[i] - old_positions[i]));
-    return max_move;
+    return largest_move(old_positions, new_positions);
 }
 
 RelaxResult relax(const SurfaceNet& net, const GreyField* grey, const RelaxOptions& options,
