@@ -26,6 +26,7 @@ std::vector<int> chunk_runs(std::size_t n, std::size_t chunk) {
         if (b != c * chunk || e != std::min(n, (c + 1) * chunk)) ranges_right = false;
     });
     std::vector<int> out;
+    out.reserve(runs.size() + 1);
     for (const auto& r : runs) out.push_back(r.load());
     if (!ranges_right) out.push_back(-1);
     return out;
@@ -44,8 +45,10 @@ TEST(ForEachChunk, EveryChunkRunsOnceInManyCallsInARow) {
 
 TEST(ForEachChunk, CallsFromSeveralThreadsAtOnceEachRunEveryChunk) {
     std::atomic<int> wrong{0};
+    constexpr int kCallers = 4;
     std::vector<std::thread> callers;
-    for (int t = 0; t < 4; ++t)
+    callers.reserve(kCallers);
+    for (int t = 0; t < kCallers; ++t)
         callers.emplace_back([&wrong, t] {
             ThreadLimit limit(0);
             for (int call = 0; call < 300; ++call) {
