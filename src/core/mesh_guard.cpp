@@ -465,15 +465,20 @@ void prefetch_polygons_ahead(const SurfaceNet& net, std::span<const std::uint32_
         for (const std::uint32_t corner : net.quads[ids[near]]) corner_data(corner);
 }
 
+// The first entry of `node`'s star, once its offsets are at hand (a node without polygons at the
+// net's end has none).
+void prefetch_star(const SurfaceNet& net, std::uint32_t node) {
+    if (const std::uint32_t k = net.star_offsets[node]; k < net.star.size())
+        detail::prefetch(&net.star[k]);
+}
+
 // For the list of nodes `nodes` at i (< end): their stars' offsets two stages ahead, and the
 // stars themselves one stage ahead.
 void prefetch_node_stars_ahead(const SurfaceNet& net, std::span<const std::uint32_t> nodes,
                                std::size_t i, std::size_t end) {
     if (const std::size_t far = i + 2 * kStageAhead; far < end)
         detail::prefetch(&net.star_offsets[nodes[far]]);
-    if (const std::size_t near = i + kStageAhead; near < end)
-        if (const std::uint32_t k = net.star_offsets[nodes[near]]; k < net.star.size())
-            detail::prefetch(&net.star[k]);
+    if (const std::size_t near = i + kStageAhead; near < end) prefetch_star(net, nodes[near]);
 }
 
 // For the list of cells `cells` at i (< end), whose nodes `cell_starts` gives, what the star test
@@ -492,9 +497,7 @@ void prefetch_stars_ahead(const SurfaceNet& net, std::span<const std::uint32_t> 
     };
     const auto ahead = [&](std::size_t stages) { return i + stages * kStageAhead < end; };
     if (ahead(4)) detail::prefetch(&net.star_offsets[node(4)]);
-    if (ahead(3))
-        if (const std::uint32_t k = net.star_offsets[node(3)]; k < net.star.size())
-            detail::prefetch(&net.star[k]);
+    if (ahead(3)) prefetch_star(net, node(3));
     if (ahead(2))
         for (const std::uint32_t id : star(2))
             if (id < net.quads.size()) detail::prefetch(&net.quads[id]);

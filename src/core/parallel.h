@@ -128,7 +128,7 @@ class WorkerPool {
 
 // Calls body(chunk, begin, end) for the chunks of [0, n) of `chunk_size` items, possibly
 // concurrently. The first exception thrown by a chunk (a cancellation, say) stops the handing
-// out of further chunks and is rethrown after every thread has joined.
+// out of further chunks and is rethrown once every thread has finished its chunks.
 template <class Body> void for_each_chunk(std::size_t n, std::size_t chunk_size, const Body& body) {
     const std::size_t chunks = chunk_count(n, chunk_size);
     const std::size_t threads = std::min<std::size_t>(chunks, thread_budget());
@@ -162,7 +162,7 @@ template <class Body> void for_each_chunk(std::size_t n, std::size_t chunk_size,
         std::vector<std::jthread> own;
         own.reserve(threads);
         for (std::size_t t = 0; t < threads; ++t) own.emplace_back(worker);
-    } // joins
+    } // joins its own threads; the pool's are done when run() returns
     if (failure) std::rethrow_exception(failure);
 }
 
