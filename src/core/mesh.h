@@ -42,6 +42,9 @@ void place_in_world(Mesh& mesh, const Volume& volume);
 // The world points of index-space points, as mesh_to_world maps a mesh's vertices.
 std::vector<glm::vec3> points_to_world(std::span<const glm::vec3> points, const Volume& volume);
 
+// The index-space points of world points, as world_to_index_map maps each one.
+std::vector<glm::vec3> points_to_index(std::span<const glm::vec3> points, const Volume& volume);
+
 // The map mesh_to_world applies to each point, to get bit for bit the same world points.
 struct IndexToWorld {
     glm::mat3 linear{1.0f};

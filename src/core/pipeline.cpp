@@ -177,12 +177,6 @@ MethodResult run_method(Method method, const Volume& grey, const Segmentation* m
 
 namespace {
 
-std::vector<glm::vec3> points_to_index(std::span<const glm::vec3> world, const Volume& volume) {
-    std::vector<glm::vec3> index(world.size());
-    std::transform(world.begin(), world.end(), index.begin(), world_to_index_map(volume));
-    return index;
-}
-
 // accuracy() of the index-space copy of a world mesh, weighted by its world areas.
 Accuracy distance_in_voxels(const Mesh& index_mesh, std::span<const glm::vec3> world_positions,
                             const MeshDistance& to_reference) {

@@ -33,7 +33,7 @@ Mesh triangulate(const SurfaceNet& net, std::span<const glm::vec3> positions,
                  TriangulationRule rule, glm::vec3 spacing) {
     constexpr std::size_t kQuadChunk = std::size_t(1) << 15;
     Mesh mesh;
-    detail::reserve_on_huge_pages(mesh.positions, positions.size());
+    detail::reserve_mapped_on_huge_pages(mesh.positions, positions.size());
     mesh.positions.assign(positions.begin(), positions.end());
     detail::resize_on_huge_pages(mesh.indices, net.quads.size() * 6 + net.triangles.size() * 3);
     for_each_chunk(net.quads.size(), kQuadChunk, [&](std::size_t, std::size_t b, std::size_t e) {

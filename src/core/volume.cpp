@@ -12,6 +12,7 @@
 #endif
 
 #include "mesh.h"
+#include "parallel.h"
 
 namespace snert {
 
@@ -343,11 +344,11 @@ GradientField gradient_field_gaussian(const Volume& volume, float sigma) {
     return field;
 }
 
-ValueRange value_range(const Volume& volume) {
+namespace {
+
+// The least and greatest finite values of v[0 .. n), folded into lo and hi.
+void fold_finite_range(const float* v, std::size_t n, float& lo, float& hi) {
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    float lo = kInf, hi = -kInf;
-    const float* v = volume.samples.data();
-    const std::size_t n = volume.samples.size();
     std::size_t i = 0;
 #if defined(__SSE2__)
     // Four lanes at a time: a sample is finite exactly when v - v is 0 (NaN for NaN and the
@@ -374,6 +375,27 @@ ValueRange value_range(const Volume& volume) {
         if (!std::isfinite(v[i])) continue;
         lo = std::min(lo, v[i]);
         hi = std::max(hi, v[i]);
+    }
+}
+
+} // namespace
+
+ValueRange value_range(const Volume& volume) {
+    // In chunks on every thread (every loader and the app's volume statistics read a clinical
+    // CT's 420 MB here, 30-40 ms on one thread), combined in chunk order.
+    constexpr std::size_t kChunk = std::size_t(1) << 22;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const std::size_t n = volume.samples.size();
+    std::vector<ValueRange> parts(chunk_count(n, kChunk), ValueRange{kInf, -kInf});
+    for_each_chunk(n, kChunk, [&](std::size_t chunk, std::size_t first, std::size_t end) {
+        ValueRange part{kInf, -kInf};
+        fold_finite_range(volume.samples.data() + first, end - first, part.min, part.max);
+        parts[chunk] = part;
+    });
+    float lo = kInf, hi = -kInf;
+    for (const ValueRange& part : parts) {
+        lo = std::min(lo, part.min);
+        hi = std::max(hi, part.max);
     }
     if (!(lo <= hi)) return ValueRange{}; // no finite sample
     return ValueRange{lo, hi};
