@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "huge_pages.h"
@@ -73,6 +75,17 @@ Mesh mesh_to_world(const Mesh& mesh, const Volume& volume) {
     return out;
 }
 
+namespace {
+
+// A mirroring mapping (as NIfTI's RAS to LPS can be) turns the winding inside out.
+void keep_winding_outward(Mesh& mesh, const IndexToWorld& to_world) {
+    if (glm::determinant(to_world.linear) < 0.0f)
+        for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+            std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+} // namespace
+
 void place_in_world(Mesh& mesh, const Volume& volume) {
     const IndexToWorld to_world = index_to_world_map(volume);
     std::vector<glm::vec3>& points = mesh.positions;
@@ -80,10 +93,16 @@ void place_in_world(Mesh& mesh, const Volume& volume) {
                    [&](std::size_t, std::size_t first, std::size_t end) {
                        for (std::size_t i = first; i < end; ++i) points[i] = to_world(points[i]);
                    });
-    // A mirroring mapping (as NIfTI's RAS to LPS can be) turns the winding inside out.
-    if (glm::determinant(to_world.linear) < 0.0f)
-        for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
-            std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+    keep_winding_outward(mesh, to_world);
+}
+
+void place_in_world(Mesh& mesh, const Volume& volume, std::vector<glm::vec3> world_positions) {
+    if (world_positions.size() != mesh.positions.size())
+        throw std::invalid_argument("place_in_world: " + std::to_string(world_positions.size()) +
+                                    " world points for " + std::to_string(mesh.positions.size()) +
+                                    " vertices");
+    mesh.positions = std::move(world_positions);
+    keep_winding_outward(mesh, index_to_world_map(volume));
 }
 
 std::vector<glm::vec3> points_to_world(std::span<const glm::vec3> points, const Volume& volume) {

@@ -39,6 +39,10 @@ Mesh mesh_to_world(const Mesh& mesh, const Volume& volume);
 // a clinical mesh is not held twice.
 void place_in_world(Mesh& mesh, const Volume& volume);
 
+// place_in_world with the mesh's points already mapped (points_to_world of its positions), which
+// replace them. Throws std::invalid_argument unless there is one point a vertex.
+void place_in_world(Mesh& mesh, const Volume& volume, std::vector<glm::vec3> world_positions);
+
 // The world points of index-space points, as mesh_to_world maps a mesh's vertices.
 std::vector<glm::vec3> points_to_world(std::span<const glm::vec3> points, const Volume& volume);
 

@@ -168,6 +168,18 @@ Topology topology(const Mesh& mesh);
 // lie on the box faces; a SurfaceNet's in the outermost cells, within one voxel of them.
 std::size_t boundary_edges_off_border(const Mesh& index_mesh, glm::ivec3 dims, float margin = 1.0f);
 
+// topology(index_mesh), boundary_edges_off_border(index_mesh, dims) and the smoothness() of the
+// mesh with the same triangles at `world_positions` (its points in the world), bit for bit, from
+// one analysis of each vertex's fan where each function alone makes its own. Throws
+// std::invalid_argument unless there is one world point a vertex.
+struct FanMeasures {
+    Topology topology;
+    std::size_t boundary_edges_off_border = 0;
+    double smoothness = 0.0;
+};
+FanMeasures fan_measures(const Mesh& index_mesh, glm::ivec3 dims,
+                         std::span<const glm::vec3> world_positions);
+
 // Sum of the triangle areas (accumulated in double).
 double surface_area(const Mesh& mesh);
 // Signed enclosed volume (divergence theorem); positive for a closed outward-wound mesh. The

@@ -45,26 +45,28 @@ MethodMetrics measure_into_world(Mesh& mesh, const Volume& volume,
     MethodMetrics m;
     m.vertices = mesh.vertex_count();
     m.triangles = mesh.triangle_count();
-    // Index space first: the accuracy (weighted by the world areas), the border, the volume error.
-    // The convergence plots show the accuracy at the vertices and the centroids only.
-    if (reference)
-        m.accuracy = what.convergence_only
-                         ? point_accuracy(mesh, reference)
-                         : accuracy(mesh, reference, points_to_world(mesh.positions, volume));
-    if (!what.convergence_only) {
-        // Connectivity only: the same in either space (a mirroring map flips every triangle).
-        m.topology = topology(mesh);
-        if (m.topology.boundary_edges > 0)
-            m.boundary_edges_off_border = boundary_edges_off_border(mesh, volume.dims);
-        // In index space, the reference's unit (the world volume differs by the voxel volume).
-        if (what.reference_volume > 0)
-            m.volume_error =
-                (enclosed_volume(mesh) - what.reference_volume) / what.reference_volume;
+    if (what.convergence_only) {
+        // The convergence plots show the accuracy at the vertices and the centroids only.
+        if (reference) m.accuracy = point_accuracy(mesh, reference);
+        place_in_world(mesh, volume);
+        m.quality = quality_stats(mesh);
+        m.smoothness = smoothness(mesh);
+        return m;
     }
-    place_in_world(mesh, volume);
+    // Index space first: the accuracy (weighted by the world areas), the border, the volume error.
+    std::vector<glm::vec3> world = points_to_world(mesh.positions, volume);
+    if (reference) m.accuracy = accuracy(mesh, reference, world);
+    // The connectivity (the same in either space: a mirroring map flips every triangle), the
+    // border and the smoothness of the world mesh (orientation does not matter to it) at once.
+    const FanMeasures fans = fan_measures(mesh, volume.dims, world);
+    m.topology = fans.topology;
+    m.boundary_edges_off_border = fans.boundary_edges_off_border;
+    m.smoothness = fans.smoothness;
+    // In index space, the reference's unit (the world volume differs by the voxel volume).
+    if (what.reference_volume > 0)
+        m.volume_error = (enclosed_volume(mesh) - what.reference_volume) / what.reference_volume;
+    place_in_world(mesh, volume, std::move(world));
     m.quality = quality_stats(mesh);
-    m.smoothness = smoothness(mesh);
-    if (what.convergence_only) return m;
     // In world units: a mirroring or oblique index->world map keeps intersections as they are,
     // and the world mesh is what gets exported and handed to a mesher.
     m.self_intersections = count_self_intersections(mesh);

@@ -405,6 +405,50 @@ TEST(Topology, EmptyMesh) {
     EXPECT_EQ(t.euler, 0);
 }
 
+TEST(FanMeasures, AreTheSeparateMeasuresFromOneAnalysis) {
+    // A sphere with holes inside the volume, a collapsed triangle and its world points under a
+    // mirroring, shearing map: the topology, the border count and the world mesh's smoothness,
+    // bit for bit, wound either way in the world (a mirror turns the winding inside out).
+    Mesh mesh = test::phantom_mc("sphere", 20);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> jitter(-0.1f, 0.1f);
+    for (glm::vec3& p : mesh.positions) p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    Mesh holed;
+    holed.positions = mesh.positions;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+        if (t % 37 != 0)
+            holed.indices.insert(holed.indices.end(), mesh.indices.begin() + std::ptrdiff_t(3 * t),
+                                 mesh.indices.begin() + std::ptrdiff_t(3 * t + 3));
+    holed.indices.insert(holed.indices.end(),
+                         {holed.indices[0], holed.indices[1], holed.indices[1]});
+    const glm::mat3 map(glm::vec3(-0.7f, 0, 0), glm::vec3(0.2f, 1.1f, 0), glm::vec3(0, 0.1f, 2.3f));
+    std::vector<glm::vec3> world;
+    for (const glm::vec3& p : holed.positions) world.push_back(map * p + glm::vec3(5, -3, 1));
+    const glm::ivec3 dims(20);
+
+    const FanMeasures fans = fan_measures(holed, dims, world);
+    const Topology t = topology(holed);
+    EXPECT_EQ(fans.topology.boundary_edges, t.boundary_edges);
+    EXPECT_GT(t.boundary_edges, 100u);
+    EXPECT_EQ(fans.topology.nonmanifold_edges, t.nonmanifold_edges);
+    EXPECT_EQ(fans.topology.nonmanifold_vertices, t.nonmanifold_vertices);
+    EXPECT_EQ(fans.topology.collapsed_triangles, 1u);
+    EXPECT_EQ(fans.topology.euler, t.euler);
+    EXPECT_EQ(fans.topology.manifold, t.manifold);
+    EXPECT_EQ(fans.topology.oriented, t.oriented);
+    EXPECT_EQ(fans.topology.watertight, t.watertight);
+    EXPECT_EQ(fans.boundary_edges_off_border, boundary_edges_off_border(holed, dims));
+    EXPECT_GT(fans.boundary_edges_off_border, 100u);
+    Mesh in_world{world, holed.indices};
+    EXPECT_EQ(fans.smoothness, smoothness(in_world));
+    for (std::size_t c = 0; c + 2 < in_world.indices.size(); c += 3)
+        std::swap(in_world.indices[c + 1], in_world.indices[c + 2]);
+    EXPECT_EQ(fans.smoothness, smoothness(in_world));
+    EXPECT_GT(fans.smoothness, 0.0);
+    world.pop_back();
+    EXPECT_THROW(fan_measures(holed, dims, world), std::invalid_argument);
+}
+
 // --- Area and volume ------------------------------------------------------------------------
 
 TEST(AreaVolume, UnitCube) {

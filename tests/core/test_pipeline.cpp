@@ -112,6 +112,9 @@ TEST(Pipeline, MeasuringIntoTheWorldKeepsEveryFigureUnderAMirror) {
     EXPECT_EQ(m.volume_error, p.volume_error);
     EXPECT_EQ(m.topology.euler, p.topology.euler);
     EXPECT_TRUE(m.topology.watertight && m.topology.oriented);
+    // The smoothness of each world mesh as measured alone, bit for bit.
+    EXPECT_EQ(m.smoothness, smoothness(expected));
+    EXPECT_EQ(p.smoothness, smoothness(mesh_to_world(index_mesh, sphere.volume)));
     EXPECT_EQ(m.self_intersections, 0u);
     EXPECT_TRUE(m.fe_ready);
     // measure() of the index mesh is the same measurement.
